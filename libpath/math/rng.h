@@ -1,0 +1,57 @@
+// PCG32 (O'Neill 2014, pcg-random.org, "pcg32" = XSH RR 64/32): small state, independent streams by
+// increment, cheap to advance. Every chain and tile gets its own stream so that results do not depend
+// on the thread count.
+#pragma once
+
+#include <cstdint>
+
+namespace lt {
+
+class Pcg32 {
+public:
+    Pcg32() { seed(0x853c49e6748fea9bULL, 0xda3e39cb94b95bdbULL); }
+    Pcg32(uint64_t initState, uint64_t stream) { seed(initState, stream); }
+
+    void seed(uint64_t initState, uint64_t stream) {
+        state_ = 0;
+        inc_ = (stream << 1u) | 1u;
+        nextUInt();
+        state_ += initState;
+        nextUInt();
+    }
+
+    uint32_t nextUInt() {
+        const uint64_t old = state_;
+        state_ = old * 6364136223846793005ULL + inc_;
+        const uint32_t xorshifted = uint32_t(((old >> 18u) ^ old) >> 27u);
+        const uint32_t rot = uint32_t(old >> 59u);
+        return (xorshifted >> rot) | (xorshifted << ((~rot + 1u) & 31));
+    }
+
+    // Uniform in [0, 1): 53 random bits from two draws, never 1.
+    double nextDouble() {
+        const uint64_t hi = nextUInt(), lo = nextUInt();
+        return double(((hi << 32) | lo) >> 11) * 0x1.0p-53;
+    }
+
+    // Jump ahead by delta steps in O(log delta) (Brown 1994, "Random number generation with arbitrary
+    // strides").
+    void advance(uint64_t delta) {
+        uint64_t curMult = 6364136223846793005ULL, curPlus = inc_, accMult = 1, accPlus = 0;
+        while (delta > 0) {
+            if (delta & 1) {
+                accMult *= curMult;
+                accPlus = accPlus * curMult + curPlus;
+            }
+            curPlus = (curMult + 1) * curPlus;
+            curMult *= curMult;
+            delta >>= 1;
+        }
+        state_ = accMult * state_ + accPlus;
+    }
+
+private:
+    uint64_t state_ = 0, inc_ = 0;
+};
+
+} // namespace lt

@@ -1,0 +1,50 @@
+// RGB spectra. lt renders in linear sRGB (Rec. 709 primaries), as Mitsuba 0.5 does in RGB mode; spectra
+// given as wavelength:value lists are converted once, at load time (see spectrum.cpp).
+#pragma once
+
+#include <span>
+#include <utility>
+
+#include "math/vec.h"
+
+namespace lt {
+
+struct Spectrum {
+    double r = 0, g = 0, b = 0;
+
+    constexpr Spectrum() = default;
+    constexpr explicit Spectrum(double v) : r(v), g(v), b(v) {}
+    constexpr Spectrum(double r_, double g_, double b_) : r(r_), g(g_), b(b_) {}
+
+    constexpr double operator[](int i) const { return i == 0 ? r : (i == 1 ? g : b); }
+    constexpr double& operator[](int i) { return i == 0 ? r : (i == 1 ? g : b); }
+    constexpr Spectrum operator+(const Spectrum& o) const { return {r + o.r, g + o.g, b + o.b}; }
+    constexpr Spectrum operator-(const Spectrum& o) const { return {r - o.r, g - o.g, b - o.b}; }
+    constexpr Spectrum operator*(const Spectrum& o) const { return {r * o.r, g * o.g, b * o.b}; }
+    constexpr Spectrum operator/(const Spectrum& o) const { return {r / o.r, g / o.g, b / o.b}; }
+    constexpr Spectrum operator*(double s) const { return {r * s, g * s, b * s}; }
+    constexpr Spectrum operator/(double s) const { return {r / s, g / s, b / s}; }
+    constexpr Spectrum& operator+=(const Spectrum& o) { r += o.r; g += o.g; b += o.b; return *this; }
+    constexpr Spectrum& operator*=(const Spectrum& o) { r *= o.r; g *= o.g; b *= o.b; return *this; }
+    constexpr Spectrum& operator*=(double s) { r *= s; g *= s; b *= s; return *this; }
+    constexpr Spectrum& operator/=(double s) { r /= s; g /= s; b /= s; return *this; }
+    constexpr bool operator==(const Spectrum&) const = default;
+
+    [[nodiscard]] constexpr bool isBlack() const { return r == 0 && g == 0 && b == 0; }
+    [[nodiscard]] constexpr double maxValue() const { return std::max(r, std::max(g, b)); }
+    [[nodiscard]] constexpr double average() const { return (r + g + b) / 3.0; }
+    // Rec. 709 luminance: the scalar target f* of the Markov chains (SURVEY Eq. 16).
+    [[nodiscard]] constexpr double luminance() const { return 0.212671 * r + 0.715160 * g + 0.072169 * b; }
+    [[nodiscard]] bool isFinite() const { return std::isfinite(r) && std::isfinite(g) && std::isfinite(b); }
+};
+
+constexpr Spectrum operator*(double s, const Spectrum& v) { return v * s; }
+inline Spectrum sqrt(const Spectrum& v) { return {std::sqrt(v.r), std::sqrt(v.g), std::sqrt(v.b)}; }
+inline Spectrum exp(const Spectrum& v) { return {std::exp(v.r), std::exp(v.g), std::exp(v.b)}; }
+
+// Convert a sampled spectrum (wavelengths in nm, ascending, with values) to linear sRGB: integrate
+// against the CIE 1931 observer, XYZ -> sRGB, and white-balance so that a constant spectrum c maps to
+// RGB (c, c, c). Throws lt::Error if the samples are not ascending or fewer than one.
+Spectrum spectrumToRgb(std::span<const std::pair<double, double>> samples);
+
+} // namespace lt

@@ -1,0 +1,73 @@
+// The perspective (pinhole) sensor, Mitsuba's `perspective`, with its film and pixel filter.
+//
+// Camera space follows Mitsuba: it looks along +z, raster x grows toward camera -x and raster y toward
+// camera -y (Mitsuba's perspective.cpp cameraToSample), and toWorld places it. Raster coordinates are in
+// pixels of the FULL film, (0,0) at the top-left corner; a crop window selects the pixels rendered.
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include "math/spectrum.h"
+#include "math/transform.h"
+#include "scene/ray.h"
+
+namespace lt {
+
+struct PixelFilter {
+    enum class Type { Box, Tent, Gaussian };
+    Type type = Type::Box;
+    double radius = 0.5;     // support half-width in pixels (box 0.5, tent 1, gaussian 4 stddev)
+    double stddev = 0.5;     // gaussian only
+    [[nodiscard]] double eval(double dx, double dy) const;   // separable, not normalized
+    // Integral of eval over the plane (box 1, tent 1, gaussian about 1.567 for stddev 0.5): a film that
+    // averages with weights (sum w f / sum w, Mitsuba's hdrfilm) needs no normalization; a splatting
+    // film divides by this so that each pixel's filter integrates to 1 (ALGORITHMS.md 1.4).
+    [[nodiscard]] double integral() const;
+    [[nodiscard]] std::string name() const;
+};
+
+struct Film {
+    int width = 768, height = 576;              // full film size in pixels
+    int cropX = 0, cropY = 0, cropWidth = 0, cropHeight = 0;   // rendered window (defaults: whole film)
+    PixelFilter filter;
+    std::string type = "hdrfilm";
+};
+
+enum class FovAxis { X, Y, Diagonal, Smaller, Larger };
+
+class PerspectiveCamera {
+public:
+    PerspectiveCamera() = default;
+    // Throws lt::Error for fov outside (0, 180), a film without pixels, a crop window outside the film,
+    // a negative near clip, or a toWorld that scales (Mitsuba forbids it too). A zero crop size means
+    // "to the film's edge" and is replaced by it.
+    PerspectiveCamera(const Transform& toWorld, double fovDeg, FovAxis axis, const Film& film, double nearClip);
+
+    [[nodiscard]] const Film& film() const { return film_; }
+    [[nodiscard]] const Vec3& position() const { return position_; }
+    [[nodiscard]] const Vec3& forward() const { return forward_; }
+    [[nodiscard]] double fovX() const { return fovXDeg_; }
+
+    // Primary ray through a raster position (pixels of the full film).
+    [[nodiscard]] Ray generateRay(const Vec2& raster) const;
+    // The raster position a world direction from the camera position maps to, if it falls inside the
+    // crop window and in front of the camera.
+    [[nodiscard]] std::optional<Vec2> rasterPosition(const Vec3& dirWorld) const;
+    // Importance W_e for a direction leaving the pinhole (Veach thesis 8.1.2 / pbrt-v3 PerspectiveCamera::We):
+    // 1 / (A cos^4 theta) over the crop window, A the window's area on the plane at distance 1; zero outside.
+    [[nodiscard]] double importance(const Vec3& dirWorld) const;
+    // Densities of generateRay with a raster position uniform over the crop window: position is a delta
+    // (pdfPos = 1), direction pdfDir = 1 / (A cos^3 theta) in solid angle.
+    void pdfEmission(const Vec3& dirWorld, double& pdfPos, double& pdfDir) const;
+    // Area of the crop window on the image plane at distance 1 from the pinhole.
+    [[nodiscard]] double imagePlaneArea() const { return planeArea_; }
+
+private:
+    Transform toWorld_, toCamera_;
+    Film film_;
+    Vec3 position_, forward_;
+    double fovXDeg_ = 0, tanHalfX_ = 0, tanHalfY_ = 0, planeArea_ = 0, near_ = 0;
+};
+
+} // namespace lt

@@ -1,0 +1,220 @@
+#include "scene/plugin_factory.h"
+
+#include "bsdf/conductor.h"
+#include "bsdf/conductor_presets.h"
+#include "bsdf/dielectric.h"
+#include "bsdf/diffuse.h"
+#include "bsdf/ior_presets.h"
+#include "bsdf/plastic.h"
+#include "bsdf/roughconductor.h"
+#include "bsdf/roughdielectric.h"
+#include "bsdf/roughplastic.h"
+#include "bsdf/thindielectric.h"
+#include "bsdf/twosided.h"
+#include "math/error.h"
+
+namespace lt {
+
+namespace {
+
+std::string joined(const std::vector<std::string>& names) {
+    std::string s;
+    for (const auto& n : names) s += (s.empty() ? "" : ", ") + n;
+    return s;
+}
+
+MicrofacetType distribution(const SceneObject& o) {
+    const std::string d = o.getString("distribution", "beckmann");
+    if (d == "beckmann") return MicrofacetType::Beckmann;
+    if (d == "ggx") return MicrofacetType::GGX;
+    if (d == "phong" || d == "as") o.fail("microfacet distribution '" + d + "' is not supported (use beckmann or ggx)");
+    o.fail("unknown microfacet distribution '" + d + "' (use beckmann or ggx)");
+}
+
+// Mitsuba: `alpha` sets both, or `alphaU` and `alphaV` (anisotropic). Default 0.1.
+void roughness(const SceneObject& o, double& alphaU, double& alphaV) {
+    if (o.has("alpha") && (o.has("alphaU") || o.has("alphaV"))) o.fail("give either alpha or alphaU/alphaV, not both");
+    if (o.has("alphaU") != o.has("alphaV")) o.fail("alphaU and alphaV must be given together");
+    if (o.has("alphaU")) {
+        alphaU = o.getFloat("alphaU");
+        alphaV = o.getFloat("alphaV");
+    } else {
+        alphaU = alphaV = o.getFloat("alpha", 0.1);
+    }
+    if (!(alphaU > 0) || !(alphaV > 0)) o.fail("roughness alpha must be positive (use the smooth variant for alpha = 0)");
+}
+
+// eta/k of a conductor: a named `material`, or explicit eta and k (Mitsuba default "Cu").
+void conductorIor(const SceneObject& o, Spectrum& eta, Spectrum& k) {
+    if (o.has("material") && (o.has("eta") || o.has("k"))) o.fail("give either material or eta/k, not both");
+    if (o.has("eta") || o.has("k")) {
+        if (!o.has("eta") || !o.has("k")) o.fail("eta and k must be given together");
+        eta = o.getSpectrum("eta");
+        k = o.getSpectrum("k");
+        return;
+    }
+    const std::string name = o.getString("material", "Cu");
+    const auto preset = lookupConductor(name);
+    if (!preset) o.fail("unknown conductor material '" + name + "' (known: " + joined(conductorPresetNames()) + ")");
+    eta = preset->eta;
+    k = preset->k;
+}
+
+} // namespace
+
+double PluginFactory::ior(const SceneObject& o, const std::string& key, double def) {
+    auto it = o.props.find(key);
+    if (it == o.props.end()) return def;
+    if (it->second.type == Property::Type::String) {
+        const std::string name = o.getString(key);
+        const auto v = lookupIor(name);
+        if (!v) o.fail("unknown index of refraction '" + name + "' for " + key + " (known: " + joined(iorPresetNames()) + ")");
+        return *v;
+    }
+    return o.getFloat(key);
+}
+
+void PluginFactory::finish(const SceneObject& o, const std::set<std::string>& hints) {
+    for (const auto& key : o.checkUnused(hints)) ignored.push_back(o.tag + " " + o.type + ": " + key);
+    for (const auto& c : o.children) {
+        // Every nested object must have been consumed as a named texture or nested BSDF.
+        if (c->tag == "texture" && !c->name.empty() && textures_.count(c.get())) continue;
+        if (c->tag == "bsdf" && bsdfs_.count(c.get())) continue;
+        c->fail("not used by its <" + o.tag + " type=\"" + o.type + "\"> (check its name)");
+    }
+}
+
+std::shared_ptr<const Texture> PluginFactory::texture(const SceneObject& o) {
+    if (auto it = textures_.find(&o); it != textures_.end()) return it->second;
+    const Vec2 offset{o.getFloat("uoffset", 0.0), o.getFloat("voffset", 0.0)};
+    const Vec2 scale{o.getFloat("uscale", 1.0), o.getFloat("vscale", 1.0)};
+    std::shared_ptr<const Texture> t;
+    if (o.type == "bitmap") {
+        const std::string wrap = o.getString("wrapMode", "repeat");
+        if (wrap != "repeat") o.fail("wrapMode '" + wrap + "' is not supported (lt repeats textures)");
+        const std::string file = resolve_(o, o.getString("filename"));
+        try {
+            t = std::make_shared<BitmapTexture>(file, o.getFloat("gamma", 0.0), offset, scale);
+        } catch (const Error& e) {
+            o.fail(e.what());
+        }
+        finish(o, {"filterType", "maxAnisotropy", "cache", "channel"});
+    } else if (o.type == "checkerboard") {
+        t = std::make_shared<CheckerboardTexture>(o.getSpectrum("color0", Spectrum(0.4)),
+                                                  o.getSpectrum("color1", Spectrum(0.2)), offset, scale);
+        finish(o);
+    } else {
+        o.fail("unknown texture type (lt reads bitmap and checkerboard)");
+    }
+    textures_[&o] = t;
+    return t;
+}
+
+std::shared_ptr<const Texture> PluginFactory::textureParam(const SceneObject& o, const std::string& key,
+                                                           const Spectrum& def) {
+    if (auto child = o.namedChild(key)) {
+        if (child->tag != "texture") child->fail("'" + key + "' must be a texture");
+        if (o.has(key)) o.fail("'" + key + "' is given both as a value and as a texture");
+        return texture(*child);
+    }
+    return std::make_shared<ConstantTexture>(o.getSpectrum(key, def));
+}
+
+std::shared_ptr<const Bsdf> PluginFactory::defaultBsdf() {
+    return std::make_shared<Diffuse>(DiffuseParams{std::make_shared<ConstantTexture>(Spectrum(0.5))});
+}
+
+std::shared_ptr<const Bsdf> PluginFactory::bsdf(const SceneObject& o) {
+    if (auto it = bsdfs_.find(&o); it != bsdfs_.end()) return it->second;
+    std::shared_ptr<const Bsdf> b;
+    try {
+        if (o.type == "diffuse") {
+            b = std::make_shared<Diffuse>(DiffuseParams{textureParam(o, "reflectance", Spectrum(0.5))});
+            finish(o);
+        } else if (o.type == "twosided") {
+            const auto nested = o.childrenWithTag("bsdf");
+            if (nested.empty() || nested.size() > 2) o.fail("twosided takes one or two nested BSDFs");
+            TwoSidedParams p;
+            p.front = bsdf(*nested[0]);
+            if (nested.size() == 2) p.back = bsdf(*nested[1]);
+            b = std::make_shared<TwoSided>(p);
+            finish(o);
+        } else if (o.type == "dielectric") {
+            DielectricParams p;
+            p.intIOR = ior(o, "intIOR", p.intIOR);
+            p.extIOR = ior(o, "extIOR", p.extIOR);
+            p.specularReflectance = textureParam(o, "specularReflectance", Spectrum(1.0));
+            p.specularTransmittance = textureParam(o, "specularTransmittance", Spectrum(1.0));
+            b = std::make_shared<Dielectric>(p);
+            finish(o);
+        } else if (o.type == "thindielectric") {
+            ThinDielectricParams p;
+            p.intIOR = ior(o, "intIOR", p.intIOR);
+            p.extIOR = ior(o, "extIOR", p.extIOR);
+            p.specularReflectance = textureParam(o, "specularReflectance", Spectrum(1.0));
+            p.specularTransmittance = textureParam(o, "specularTransmittance", Spectrum(1.0));
+            b = std::make_shared<ThinDielectric>(p);
+            finish(o);
+        } else if (o.type == "roughdielectric") {
+            RoughDielectricParams p;
+            p.distribution = distribution(o);
+            roughness(o, p.alphaU, p.alphaV);
+            p.intIOR = ior(o, "intIOR", p.intIOR);
+            p.extIOR = ior(o, "extIOR", p.extIOR);
+            p.specularReflectance = textureParam(o, "specularReflectance", Spectrum(1.0));
+            p.specularTransmittance = textureParam(o, "specularTransmittance", Spectrum(1.0));
+            b = std::make_shared<RoughDielectric>(p);
+            finish(o, {"sampleVisible"});
+        } else if (o.type == "conductor") {
+            ConductorParams p;
+            conductorIor(o, p.eta, p.k);
+            p.extEta = ior(o, "extEta", p.extEta);
+            p.specularReflectance = textureParam(o, "specularReflectance", Spectrum(1.0));
+            b = std::make_shared<Conductor>(p);
+            finish(o);
+        } else if (o.type == "roughconductor") {
+            RoughConductorParams p;
+            p.distribution = distribution(o);
+            roughness(o, p.alphaU, p.alphaV);
+            conductorIor(o, p.eta, p.k);
+            p.extEta = ior(o, "extEta", p.extEta);
+            p.specularReflectance = textureParam(o, "specularReflectance", Spectrum(1.0));
+            b = std::make_shared<RoughConductor>(p);
+            finish(o, {"sampleVisible"});
+        } else if (o.type == "plastic") {
+            PlasticParams p;
+            p.intIOR = ior(o, "intIOR", p.intIOR);
+            p.extIOR = ior(o, "extIOR", p.extIOR);
+            p.diffuseReflectance = textureParam(o, "diffuseReflectance", Spectrum(0.5));
+            p.specularReflectance = textureParam(o, "specularReflectance", Spectrum(1.0));
+            p.nonlinear = o.getBoolean("nonlinear", false);
+            b = std::make_shared<Plastic>(p);
+            finish(o);
+        } else if (o.type == "roughplastic") {
+            RoughPlasticParams p;
+            p.distribution = distribution(o);
+            double au = 0.1, av = 0.1;
+            roughness(o, au, av);
+            if (au != av) o.fail("roughplastic is isotropic: give alpha, not alphaU/alphaV");
+            p.alpha = au;
+            p.intIOR = ior(o, "intIOR", p.intIOR);
+            p.extIOR = ior(o, "extIOR", p.extIOR);
+            p.diffuseReflectance = textureParam(o, "diffuseReflectance", Spectrum(0.5));
+            p.specularReflectance = textureParam(o, "specularReflectance", Spectrum(1.0));
+            p.nonlinear = o.getBoolean("nonlinear", false);
+            b = std::make_shared<RoughPlastic>(p);
+            finish(o, {"sampleVisible"});
+        } else {
+            o.fail("unknown BSDF type (lt reads diffuse, twosided, dielectric, thindielectric, roughdielectric, "
+                   "conductor, roughconductor, plastic, roughplastic)");
+        }
+    } catch (const Error& e) {
+        const std::string what = e.what();
+        if (what.find(o.file + ':') == 0) throw;
+        o.fail(what);
+    }
+    bsdfs_[&o] = b;
+    return b;
+}
+
+} // namespace lt

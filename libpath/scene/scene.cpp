@@ -1,0 +1,44 @@
+#include "scene/scene.h"
+
+namespace lt {
+
+std::optional<SurfaceInteraction> Scene::intersect(const Ray& ray) const {
+    const auto hit = accel_.intersect(ray);
+    if (!hit) return std::nullopt;
+    SurfaceInteraction si = shapes[size_t(hit->shape)].surfaceAt(hit->prim, hit->coords);
+    si.shape = hit->shape;
+    si.t = hit->t;
+    return si;
+}
+
+size_t Scene::triangleCount() const {
+    size_t n = 0;
+    for (const auto& s : shapes)
+        if (s.kind() == Shape::Kind::Triangles && !s.portal) n += s.mesh().triangles.size();
+    return n;
+}
+
+const Bsdf* Scene::bsdfOf(const SurfaceInteraction& si) const {
+    const int b = shapes[size_t(si.shape)].bsdf;
+    return b >= 0 ? bsdfs[size_t(b)].bsdf.get() : nullptr;
+}
+
+void Scene::finalize() {
+    std::vector<bool> include(shapes.size());
+    bounds = {};
+    for (size_t i = 0; i < shapes.size(); ++i) {
+        include[i] = !shapes[i].portal;
+        if (include[i]) bounds.expand(shapes[i].bounds());
+    }
+    if (!bounds.valid()) bounds.expand(Vec3(0, 0, 0));
+    accel_.build(shapes, include);
+    const double radius = std::max(sceneRadius(), 1e-3);
+    std::vector<double> power;
+    for (auto& e : emitters) {
+        e->setSceneBounds(bounds.center(), radius);
+        power.push_back(std::max(0.0, e->power().luminance()));
+    }
+    emitterSelection = DiscreteDistribution(power);
+}
+
+} // namespace lt

@@ -1,0 +1,72 @@
+// A loaded scene: shapes, materials, emitters, the sensor, and the acceleration structure over them.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "bsdf/bsdf.h"
+#include "math/distribution.h"
+#include "scene/accel.h"
+#include "scene/camera.h"
+#include "scene/emitter.h"
+#include "scene/shape.h"
+
+namespace lt {
+
+// Rendering defaults read from the scene's integrator and sampler (tools may override them).
+struct IntegratorDefaults {
+    std::string type = "path";
+    int maxDepth = -1;        // Mitsuba's meaning: 1 = emitters seen directly, -1 = unbounded
+    int rrDepth = 5;          // depth from which Russian roulette starts (Mitsuba default)
+    int sampleCount = 4;      // sampler sampleCount (Mitsuba's independent sampler default)
+};
+
+struct NamedBsdf {
+    std::shared_ptr<const Bsdf> bsdf;
+    std::string id;           // XML id or "" for anonymous nested BSDFs
+    std::string origin;       // FILE:LINE
+};
+
+class Scene {
+public:
+    std::string filename;
+    uint64_t contentHash = 0;           // FNV-1a over every file the scene read (XML, includes, meshes, images)
+
+    std::vector<Shape> shapes;
+    std::vector<NamedBsdf> bsdfs;
+    std::vector<std::unique_ptr<Emitter>> emitters;
+    PerspectiveCamera camera;
+    IntegratorDefaults integrator;
+
+    // What the loader did not use but accepted (rendering hints such as gamma or banner), reported once,
+    // and what it repaired (degenerate triangles), for the tool to print.
+    std::vector<std::string> ignoredHints;
+    std::vector<std::string> warnings;
+
+    // Bounds of the geometry (portals excluded) and its bounding sphere.
+    Bounds3 bounds;
+    [[nodiscard]] double sceneRadius() const { return 0.5 * bounds.diagonal(); }
+
+    // Choose an emitter in proportion to its power (luminance).
+    DiscreteDistribution emitterSelection;
+
+    [[nodiscard]] std::optional<SurfaceInteraction> intersect(const Ray& ray) const;
+    [[nodiscard]] bool occluded(const Ray& ray) const { return accel_.occluded(ray); }
+    [[nodiscard]] size_t triangleCount() const;
+    [[nodiscard]] const Bsdf* bsdfOf(const SurfaceInteraction& si) const;
+
+    // Called by the loader once everything is in place.
+    void finalize();
+
+private:
+    EmbreeAccel accel_;
+};
+
+// Load a Mitsuba 0.5/0.6 XML scene (scene/xml_parser.cpp + scene/scene_builder.cpp). Throws lt::Error
+// with a message naming the file, line and element.
+std::unique_ptr<Scene> loadScene(const std::string& filename, const std::map<std::string, std::string>& parameters = {});
+
+} // namespace lt

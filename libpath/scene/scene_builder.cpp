@@ -1,0 +1,333 @@
+// SceneObject tree -> Scene: shapes (with their meshes loaded and transformed), emitters, the sensor
+// and the rendering defaults. BSDFs and textures are built by PluginFactory.
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <set>
+
+#include "math/constants.h"
+#include "math/error.h"
+#include "scene/plugin_factory.h"
+#include "scene/scene.h"
+
+namespace lt {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// FNV-1a, 64 bit: a content hash that needs no dependency. It identifies a scene's files; it is not a
+// defence against deliberate collisions.
+void hashBytes(uint64_t& h, const char* data, size_t n) {
+    for (size_t i = 0; i < n; ++i) {
+        h ^= uint64_t(static_cast<unsigned char>(data[i]));
+        h *= 1099511628211ULL;
+    }
+}
+
+void hashFile(uint64_t& h, const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    char buf[1 << 16];
+    while (in) {
+        in.read(buf, sizeof buf);
+        hashBytes(h, buf, size_t(in.gcount()));
+    }
+}
+
+class Builder {
+public:
+    Builder(Scene& scene, const XmlDocument& doc)
+        : scene_(scene), doc_(doc),
+          factory_([this](const SceneObject& o, const std::string& f) { return resolve(o, f); }) {}
+
+    void build() {
+        scene_.contentHash = 1469598103934665603ULL;
+        for (const auto& f : doc_.filesRead) hashFile(scene_.contentHash, f);
+        std::vector<std::pair<const SceneObject*, int>> areaEmitters;   // (emitter, shape index)
+        bool haveSensor = false;
+        for (const auto& c : doc_.root->children) {
+            if (c->tag == "shape") {
+                buildShape(*c, areaEmitters);
+            } else if (c->tag == "bsdf") {
+                (void)bsdfIndex(*c);
+            } else if (c->tag == "texture") {
+                (void)factory_.texture(*c);
+            } else if (c->tag == "emitter") {
+                if (c->type == "area") c->fail("an area emitter must be nested inside a <shape>");
+                buildEmitter(*c);
+            } else if (c->tag == "sensor") {
+                if (haveSensor) c->fail("the scene has more than one sensor; lt renders one");
+                buildSensor(*c);
+                haveSensor = true;
+            } else if (c->tag == "integrator") {
+                buildIntegrator(*c);
+            } else {
+                c->fail("must be nested inside a <sensor> (film, rfilter, sampler) or is not allowed at scene level");
+            }
+        }
+        // Area emitters are made once the shape list is final: they keep references to their shapes.
+        for (const auto& [e, shapeIndex] : areaEmitters) {
+            auto emitter = makeAreaEmitter(scene_.shapes[size_t(shapeIndex)], shapeIndex,
+                                           e->getSpectrum("radiance", Spectrum(1.0)));
+            emitter->origin = e->file + ':' + std::to_string(e->line);
+            finish(*e, {"samplingWeight"});
+            scene_.shapes[size_t(shapeIndex)].emitter = int(scene_.emitters.size());
+            scene_.emitters.push_back(std::move(emitter));
+        }
+        if (!haveSensor) {
+            // Mitsuba's default sensor: perspective, fov 45 along x, at the origin looking along +z,
+            // 768 x 576 film, box filter.
+            Film film;
+            scene_.camera = PerspectiveCamera(Transform(), 45.0, FovAxis::X, film, 1e-2);
+        }
+        for (const auto& h : factory_.ignored) note(h);
+        scene_.finalize();
+    }
+
+private:
+    Scene& scene_;
+    const XmlDocument& doc_;
+    PluginFactory factory_;
+    std::map<const SceneObject*, int> bsdfIndices_;
+    std::set<std::string> noted_;
+
+    std::string resolve(const SceneObject& o, const std::string& filename) {
+        fs::path p = filename;
+        if (p.is_relative()) {
+            // Relative to the file that names it, then to the main scene's directory (Mitsuba's
+            // file resolver searches the scene's directory).
+            const fs::path local = fs::path(o.file).parent_path() / p;
+            const fs::path main = fs::path(scene_.filename).parent_path() / p;
+            p = fs::exists(local) || !fs::exists(main) ? local : main;
+        }
+        if (!fs::exists(p)) o.fail("file not found: " + p.string());
+        hashFile(scene_.contentHash, p.string());
+        return p.string();
+    }
+
+    void note(const std::string& hint) {
+        if (noted_.insert(hint).second) scene_.ignoredHints.push_back(hint);
+    }
+
+    void finish(const SceneObject& o, const std::set<std::string>& hints = {}) {
+        for (const auto& key : o.checkUnused(hints)) note(o.tag + " " + o.type + ": " + key);
+    }
+
+    int bsdfIndex(const SceneObject& o) {
+        auto it = bsdfIndices_.find(&o);
+        if (it != bsdfIndices_.end()) return it->second;
+        const int index = int(scene_.bsdfs.size());
+        scene_.bsdfs.push_back({factory_.bsdf(o), o.id, o.file + ':' + std::to_string(o.line)});
+        bsdfIndices_[&o] = index;
+        return index;
+    }
+
+    void buildShape(const SceneObject& o, std::vector<std::pair<const SceneObject*, int>>& areaEmitters) {
+        const Transform toWorld = o.getTransform("toWorld", Transform());
+        const bool flip = o.getBoolean("flipNormals", false);
+        Shape shape;
+        MeshLoadReport report;
+        auto loadMesh = [&](TriangleMesh mesh, bool defaultFlipV) {
+            // Mitsuba's obj loader flips v by default (flipTexCoords = true); other formats do not.
+            if (o.getBoolean("flipTexCoords", defaultFlipV))
+                for (auto& uv : mesh.uvs) uv.y = 1.0f - uv.y;
+            if (o.getBoolean("faceNormals", false)) mesh.normals.clear();
+            transformMesh(mesh, toWorld);
+            return Shape::triangles(std::move(mesh), flip);
+        };
+        try {
+            if (o.type == "obj") {
+                shape = loadMesh(loadObj(resolve(o, o.getString("filename")), report), true);
+            } else if (o.type == "ply") {
+                shape = loadMesh(loadPly(resolve(o, o.getString("filename")), report), false);
+            } else if (o.type == "serialized") {
+                shape = loadMesh(loadSerialized(resolve(o, o.getString("filename")), o.getInteger("shapeIndex", 0), report),
+                                 false);
+            } else if (o.type == "rectangle") {
+                shape = loadMesh(makeRectangleMesh(), false);
+            } else if (o.type == "cube") {
+                shape = loadMesh(makeCubeMesh(), false);
+            } else if (o.type == "sphere") {
+                const Vec3 c = toWorld.point(o.getPoint("center", Vec3(0, 0, 0)));
+                // Mitsuba allows a toWorld with uniform scale on spheres: the radius scales with it.
+                const Vec3 ex = toWorld.vector({1, 0, 0}), ey = toWorld.vector({0, 1, 0}), ez = toWorld.vector({0, 0, 1});
+                const double sx = length(ex), sy = length(ey), sz = length(ez);
+                if (std::abs(sx - sy) > 1e-6 * sx || std::abs(sx - sz) > 1e-6 * sx)
+                    o.fail("a sphere's toWorld must scale uniformly (use a mesh for ellipsoids)");
+                shape = Shape::sphere(c, o.getFloat("radius", 1.0) * sx, flip);
+            } else if (o.type == "disk") {
+                shape = Shape::disk(toWorld, flip);
+            } else {
+                o.fail("unknown shape type (lt reads obj, ply, serialized, rectangle, cube, sphere, disk)");
+            }
+        } catch (const Error& e) {
+            const std::string what = e.what();
+            // Loader messages start with the mesh file; put the XML element in front.
+            if (what.find(o.file + ':') == 0) throw;
+            o.fail(what);
+        }
+        if (report.degenerateTrianglesRemoved > 0)
+            scene_.warnings.push_back(o.where() + ": removed " + std::to_string(report.degenerateTrianglesRemoved) +
+                                      " degenerate triangle(s)");
+        shape.portal = o.getBoolean("portal", false);
+        shape.type = o.type;
+        shape.id = o.id;
+        shape.origin = o.file + ':' + std::to_string(o.line);
+        const SceneObject* emitter = nullptr;
+        for (const auto& c : o.children) {
+            if (c->tag == "bsdf") {
+                if (shape.bsdf >= 0) c->fail("a shape takes one BSDF");
+                shape.bsdf = bsdfIndex(*c);
+            } else if (c->tag == "emitter") {
+                if (c->type != "area") c->fail("only area emitters can be attached to a shape");
+                if (emitter) c->fail("a shape takes one emitter");
+                emitter = c.get();
+            } else {
+                c->fail("not allowed inside a <shape>");
+            }
+        }
+        if (shape.portal && emitter) o.fail("a portal cannot emit light");
+        if (shape.bsdf < 0 && !shape.portal) {
+            shape.bsdf = int(scene_.bsdfs.size());
+            scene_.bsdfs.push_back({PluginFactory::defaultBsdf(), "", shape.origin});
+        }
+        finish(o, {"maxSmoothAngle"});
+        if (emitter) areaEmitters.emplace_back(emitter, int(scene_.shapes.size()));
+        scene_.shapes.push_back(std::move(shape));
+    }
+
+    void buildEmitter(const SceneObject& o) {
+        std::unique_ptr<Emitter> e;
+        try {
+            if (o.type == "point") {
+                const Vec3 pos = o.has("position") ? o.getPoint("position")
+                                                   : o.getTransform("toWorld", Transform()).point({0, 0, 0});
+                e = makePointEmitter(pos, o.getSpectrum("intensity", Spectrum(1.0)));
+            } else if (o.type == "spot") {
+                const double cutoff = o.getFloat("cutoffAngle", 20.0);
+                e = makeSpotEmitter(o.getTransform("toWorld", Transform()), o.getSpectrum("intensity", Spectrum(1.0)),
+                                    cutoff, o.getFloat("beamWidth", cutoff * 3.0 / 4.0));
+            } else if (o.type == "directional") {
+                Vec3 dir = o.has("direction") ? o.getVector("direction")
+                                              : o.getTransform("toWorld", Transform()).vector({0, 0, 1});
+                if (!(length(dir) > 0)) o.fail("direction must be non-zero");
+                e = makeDirectionalEmitter(normalize(dir), o.getSpectrum("irradiance", Spectrum(1.0)));
+            } else if (o.type == "constant") {
+                e = makeConstantEmitter(o.getSpectrum("radiance", Spectrum(1.0)));
+            } else if (o.type == "envmap") {
+                e = makeEnvmapEmitter(resolve(o, o.getString("filename")), o.getTransform("toWorld", Transform()),
+                                      o.getFloat("scale", 1.0));
+            } else {
+                o.fail("unknown emitter type (lt reads area, point, spot, directional, constant, envmap)");
+            }
+        } catch (const Error& err) {
+            const std::string what = err.what();
+            if (what.find(o.file + ':') == 0) throw;
+            o.fail(what);
+        }
+        e->origin = o.file + ':' + std::to_string(o.line);
+        finish(o, {"samplingWeight", "gamma", "cache"});
+        scene_.emitters.push_back(std::move(e));
+    }
+
+    void buildSensor(const SceneObject& o) {
+        if (o.type != "perspective")
+            o.fail("unsupported sensor type (lt renders through a `perspective` pinhole camera)");
+        Film film;
+        bool haveFilm = false;
+        for (const auto& c : o.children) {
+            if (c->tag == "film") {
+                film = buildFilm(*c);
+                haveFilm = true;
+            } else if (c->tag == "sampler") {
+                scene_.integrator.sampleCount = c->getInteger("sampleCount", 4);
+                if (scene_.integrator.sampleCount < 1) c->fail("sampleCount must be at least 1");
+                finish(*c, {"scramble", "dimension", "resolution"});
+                if (c->type != "independent") note("sampler " + c->type + ": type (lt uses its own sample generator)");
+            } else {
+                c->fail("not allowed inside a <sensor>");
+            }
+        }
+        (void)haveFilm;
+        const double fov = o.getFloat("fov", 45.0);
+        const std::string axisName = o.getString("fovAxis", "x");
+        FovAxis axis;
+        if (axisName == "x") axis = FovAxis::X;
+        else if (axisName == "y") axis = FovAxis::Y;
+        else if (axisName == "diagonal") axis = FovAxis::Diagonal;
+        else if (axisName == "smaller") axis = FovAxis::Smaller;
+        else if (axisName == "larger") axis = FovAxis::Larger;
+        else o.fail("fovAxis must be x, y, diagonal, smaller or larger, not '" + axisName + "'");
+        const double nearClip = o.getFloat("nearClip", 1e-2);
+        try {
+            scene_.camera = PerspectiveCamera(o.getTransform("toWorld", Transform()), fov, axis, film, nearClip);
+        } catch (const Error& e) {
+            o.fail(e.what());
+        }
+        finish(o, {"farClip", "shutterOpen", "shutterClose"});
+    }
+
+    Film buildFilm(const SceneObject& o) {
+        if (o.type != "hdrfilm" && o.type != "ldrfilm" && o.type != "mfilm")
+            o.fail("unsupported film type (lt writes linear EXR from hdrfilm or ldrfilm)");
+        Film film;
+        film.type = o.type;
+        film.width = o.getInteger("width", 768);
+        film.height = o.getInteger("height", 576);
+        if (film.width < 1 || film.height < 1) o.fail("width and height must be at least 1");
+        film.cropX = o.getInteger("cropOffsetX", 0);
+        film.cropY = o.getInteger("cropOffsetY", 0);
+        film.cropWidth = o.getInteger("cropWidth", film.width - film.cropX);
+        film.cropHeight = o.getInteger("cropHeight", film.height - film.cropY);
+        if (film.cropX < 0 || film.cropY < 0 || film.cropWidth < 1 || film.cropHeight < 1 ||
+            film.cropX + film.cropWidth > film.width || film.cropY + film.cropHeight > film.height)
+            o.fail("the crop window must lie inside the film");
+        for (const auto& c : o.children) {
+            if (c->tag != "rfilter") c->fail("not allowed inside a <film>");
+            if (c->type == "box") {
+                film.filter = {PixelFilter::Type::Box, c->getFloat("radius", 0.5), 0.5};
+            } else if (c->type == "tent") {
+                film.filter = {PixelFilter::Type::Tent, c->getFloat("radius", 1.0), 0.5};
+            } else if (c->type == "gaussian") {
+                const double sd = c->getFloat("stddev", 0.5);
+                film.filter = {PixelFilter::Type::Gaussian, 4 * sd, sd};
+            } else {
+                c->fail("unsupported reconstruction filter (lt has box, tent, gaussian)");
+            }
+            if (!(film.filter.radius > 0)) c->fail("filter radius must be positive");
+            finish(*c);
+        }
+        // ldrfilm is a hint: lt always writes linear EXR (the shared scenes' README says so).
+        finish(o, {"banner", "gamma", "pixelFormat", "fileFormat", "componentFormat", "attachLog", "highQualityEdges",
+                   "tonemapMethod", "exposure", "key", "burn"});
+        return film;
+    }
+
+    void buildIntegrator(const SceneObject& o) {
+        scene_.integrator.type = o.type;
+        scene_.integrator.maxDepth = o.getInteger("maxDepth", -1);
+        scene_.integrator.rrDepth = o.getInteger("rrDepth", 5);
+        if (scene_.integrator.maxDepth < -1 || scene_.integrator.maxDepth == 0)
+            o.fail("maxDepth must be -1 (unbounded) or at least 1");
+        if (scene_.integrator.rrDepth < 1) o.fail("rrDepth must be at least 1");
+        // Every other integrator option is the renderer's business: lt's tools take their own.
+        std::set<std::string> hints;
+        for (const auto& [key, p] : o.props)
+            if (!p.queried) hints.insert(key);
+        finish(o, hints);
+        for (const auto& c : o.children)
+            if (c->tag != "integrator") c->fail("not allowed inside an <integrator>");
+    }
+};
+
+} // namespace
+
+std::unique_ptr<Scene> loadScene(const std::string& filename, const std::map<std::string, std::string>& parameters) {
+    auto scene = std::make_unique<Scene>();
+    scene->filename = filename;
+    const XmlDocument doc = parseSceneXml(filename, parameters);
+    Builder(*scene, doc).build();
+    return scene;
+}
+
+} // namespace lt

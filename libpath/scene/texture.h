@@ -1,0 +1,69 @@
+// Textures: a spectrum as a function of surface uv. The closed set of Mitsuba 0.5 textures that the
+// classic scenes use: constant values, `bitmap` (any format OpenImageIO reads) and `checkerboard`.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "math/spectrum.h"
+#include "math/vec.h"
+
+namespace lt {
+
+class Texture {
+public:
+    virtual ~Texture() = default;
+    [[nodiscard]] virtual Spectrum eval(const Vec2& uv) const = 0;
+    // Mean over the texture's domain: used where one number must stand for the texture (albedo
+    // estimates in lt-inspect, light power).
+    [[nodiscard]] virtual Spectrum average() const = 0;
+    [[nodiscard]] virtual bool isConstant() const { return false; }
+};
+
+class ConstantTexture final : public Texture {
+public:
+    explicit ConstantTexture(const Spectrum& value) : value_(value) {}
+    [[nodiscard]] Spectrum eval(const Vec2&) const override { return value_; }
+    [[nodiscard]] Spectrum average() const override { return value_; }
+    [[nodiscard]] bool isConstant() const override { return true; }
+
+private:
+    Spectrum value_;
+};
+
+// Mitsuba's `checkerboard`: color0 where floor(u*uscale+uoffset) + floor(v*vscale+voffset) is even
+// (Mitsuba 0.5 checkerboard.cpp semantics: 2x2 checks per unit uv at scale 1).
+class CheckerboardTexture final : public Texture {
+public:
+    CheckerboardTexture(const Spectrum& color0, const Spectrum& color1, const Vec2& offset, const Vec2& scale)
+        : color0_(color0), color1_(color1), offset_(offset), scale_(scale) {}
+    [[nodiscard]] Spectrum eval(const Vec2& uv) const override;
+    [[nodiscard]] Spectrum average() const override { return (color0_ + color1_) * 0.5; }
+
+private:
+    Spectrum color0_, color1_;
+    Vec2 offset_, scale_;
+};
+
+// Mitsuba's `bitmap`: an image read through OpenImageIO, bilinear lookup with repeat wrapping, uv
+// origin at the bottom-left as in Mitsuba (v flipped against the image rows). LDR 8-bit images are
+// linearized from sRGB unless gamma says otherwise.
+class BitmapTexture final : public Texture {
+public:
+    // Throws lt::Error naming the file when it cannot be read or holds NaN or Inf.
+    BitmapTexture(const std::string& filename, double gamma, const Vec2& offset, const Vec2& scale);
+    [[nodiscard]] Spectrum eval(const Vec2& uv) const override;
+    [[nodiscard]] Spectrum average() const override { return average_; }
+    [[nodiscard]] int width() const { return width_; }
+    [[nodiscard]] int height() const { return height_; }
+
+private:
+    [[nodiscard]] Spectrum texel(int x, int y) const;
+    int width_ = 0, height_ = 0;
+    std::vector<float> rgb_;
+    Spectrum average_;
+    Vec2 offset_, scale_;
+};
+
+} // namespace lt

@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# lt-inspect from the command line: every shared and shipped scene is described (text and valid JSON);
+# bad input gives exactly one error line and a non-zero exit; --help works.
+#   lt_inspect.sh BIN_DIR SOURCE_DIR
+set -u
+bin="$1"; src="$2"
+fail=0
+check() { if ! eval "$2"; then echo "FAILED: $1"; fail=1; else echo "ok: $1"; fi; }
+
+scenes=("$src"/../shared/scenes/*/scene.xml "$src"/scenes/*/scene.xml)
+check "six scenes to describe" '[ ${#scenes[@]} -ge 6 ]'
+for s in "${scenes[@]}"; do
+  check "text summary of $s" '"$bin/lt-inspect" "$s" > /tmp/lt_inspect_out.$$ 2>&1 && grep -q "^needs" /tmp/lt_inspect_out.$$'
+  check "json summary of $s" '"$bin/lt-inspect" "$s" --json | python3 -c "import json,sys; d=json.load(sys.stdin); assert d[\"kind\"]==\"scene\" and \"needs\" in d"'
+done
+
+check "--help exits 0" '"$bin/lt-inspect" --help | grep -q "lt-inspect"'
+
+out=$("$bin/lt-inspect" /nonexistent/scene.xml 2>&1); code=$?
+check "missing file: non-zero exit" '[ $code -ne 0 ]'
+check "missing file: one line naming the file" '[ "$out" = "lt-inspect: error: /nonexistent/scene.xml: cannot open scene file" ]'
+
+tmp=$(mktemp -d); trap 'rm -rf "$tmp"; rm -f /tmp/lt_inspect_out.$$' EXIT
+printf '<scene version="0.5.0">\n<shape type="sphere">\n<float name="radius" value="x"/>\n</shape>\n</scene>\n' > "$tmp/bad.xml"
+out=$("$bin/lt-inspect" "$tmp/bad.xml" 2>&1); code=$?
+check "bad number: non-zero exit" '[ $code -ne 0 ]'
+check "bad number: one line with file and line" '[ "$out" = "lt-inspect: error: $tmp/bad.xml:3: <float>: '"'"'x'"'"' is not a number" ]'
+
+"$bin/lt-inspect" "$src/scenes/cornell-spheres/scene.xml" --no-such-option >/dev/null 2>&1; code=$?
+check "unknown option: non-zero exit" '[ $code -ne 0 ]'
+check "-D overrides a scene default" '"$bin/lt-inspect" "$src/scenes/cornell-spheres/scene.xml" -D res=64 --json | python3 -c "import json,sys; assert json.load(sys.stdin)[\"film\"][\"width\"]==64"'
+
+exit $fail

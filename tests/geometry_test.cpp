@@ -1,0 +1,206 @@
+// Intersection and differential geometry against analytic spheres and planes; ray offsets at extreme
+// scene scales.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+#include "math/constants.h"
+#include "math/rng.h"
+#include "math/warp.h"
+#include "scene/scene.h"
+
+using namespace lt;
+
+namespace {
+
+Vec2 rand2(Pcg32& rng) { return {rng.nextDouble(), rng.nextDouble()}; }
+
+// Central differences of a surface's position and shading normal along its uv parameterization,
+// compared with the analytic dp/du, dp/dv, dn/du, dn/dv. The step h gives an O(h^2) truncation error;
+// the tolerance allows 1e3 times h^2 times the scale of the second derivatives (curvature ~ 1 here).
+void checkDerivatives(const Shape& shape, uint32_t prim, const std::function<Vec2(const Vec2&)>& uvToCoords,
+                      const Vec2& uv, double scale) {
+    const double h = 1e-5;
+    const SurfaceInteraction si = shape.surfaceAt(prim, uvToCoords(uv));
+    const SurfaceInteraction up = shape.surfaceAt(prim, uvToCoords({uv.x + h, uv.y}));
+    const SurfaceInteraction um = shape.surfaceAt(prim, uvToCoords({uv.x - h, uv.y}));
+    const SurfaceInteraction vp = shape.surfaceAt(prim, uvToCoords({uv.x, uv.y + h}));
+    const SurfaceInteraction vm = shape.surfaceAt(prim, uvToCoords({uv.x, uv.y - h}));
+    const double tol = 1e-5 * scale;
+    const Vec3 dpdu = (up.p - um.p) / (2 * h), dpdv = (vp.p - vm.p) / (2 * h);
+    const Vec3 dndu = (up.shading.n - um.shading.n) / (2 * h), dndv = (vp.shading.n - vm.shading.n) / (2 * h);
+    CHECK(length(dpdu - si.dpdu) < tol);
+    CHECK(length(dpdv - si.dpdv) < tol);
+    CHECK(length(dndu - si.dndu) < tol / scale * 10);
+    CHECK(length(dndv - si.dndv) < tol / scale * 10);
+    // The shading frame is orthonormal with n the shading normal.
+    CHECK(std::abs(dot(si.shading.s, si.shading.n)) < 1e-12);
+    CHECK(std::abs(length(si.shading.t) - 1) < 1e-12);
+}
+
+Scene sceneOf(std::vector<Shape> shapes) {
+    Scene s;
+    s.shapes = std::move(shapes);
+    s.finalize();
+    return s;
+}
+
+} // namespace
+
+TEST_CASE("sphere intersection is exact in double precision", "[geometry]") {
+    const Vec3 c{1.5, -2, 0.25};
+    const double r = 0.75;
+    const Scene scene = sceneOf({Shape::sphere(c, r, false)});
+    Pcg32 rng(7, 1);
+    for (int i = 0; i < 1000; ++i) {
+        const Vec3 target = c + warp::squareToUniformSphere(rand2(rng)) * (r * 0.99);
+        Ray ray;
+        ray.o = c + warp::squareToUniformSphere(rand2(rng)) * (5 * r);
+        ray.d = normalize(target - ray.o);
+        const auto si = scene.intersect(ray);
+        REQUIRE(si);
+        CHECK(std::abs(length(si->p - c) - r) < 1e-12 * r);
+        CHECK(length(si->ng - (si->p - c) / r) < 1e-9);
+        // The analytic entry distance.
+        const Vec3 f = ray.o - c;
+        const double b = dot(f, ray.d), disc = b * b - (dot(f, f) - r * r);
+        CHECK(si->t == Approx(-b - std::sqrt(disc)).epsilon(1e-9));
+    }
+}
+
+TEST_CASE("plane intersection and the rectangle's frame", "[geometry]") {
+    TriangleMesh m = makeRectangleMesh();
+    transformMesh(m, Transform::translate({0, 0, 2}) * Transform::scale({3, 1, 1}));
+    const Scene scene = sceneOf({Shape::triangles(m, false)});
+    Pcg32 rng(3, 2);
+    for (int i = 0; i < 200; ++i) {
+        const Vec2 q{rng.nextDouble() * 5.8 - 2.9, rng.nextDouble() * 1.9 - 0.95};
+        Ray ray;
+        ray.o = {q.x * 0.5, q.y * 0.5, -1};
+        ray.d = normalize(Vec3(q.x, q.y, 2) - ray.o);
+        const auto si = scene.intersect(ray);
+        REQUIRE(si);
+        CHECK(si->p.z == Approx(2.0).margin(1e-6));
+        CHECK(si->p.x == Approx(q.x).margin(1e-5));
+        CHECK(si->t == Approx(length(Vec3(q.x, q.y, 2) - ray.o)).epsilon(1e-6));
+        CHECK(si->ng.z == Approx(1.0));
+        // dp/du of Mitsuba's rectangle: uv spans [0,1] over the 2-unit side scaled by 3.
+        CHECK(si->dpdu.x == Approx(6.0));
+        CHECK(si->dpdv.y == Approx(2.0));
+    }
+}
+
+TEST_CASE("differential geometry matches finite differences", "[geometry]") {
+    SECTION("sphere (uv = phi/2pi, theta/pi)") {
+        for (bool flip : {false, true}) {
+            const Shape s = Shape::sphere({0.3, -0.2, 1}, 2.0, flip);
+            Pcg32 rng(11, flip);
+            for (int i = 0; i < 50; ++i) {
+                const Vec2 uv{0.05 + 0.9 * rng.nextDouble(), 0.05 + 0.9 * rng.nextDouble()};
+                checkDerivatives(s, 0, [](const Vec2& x) { return x; }, uv, 2.0 * Pi);
+            }
+        }
+    }
+    SECTION("triangle with interpolated normals and uvs") {
+        TriangleMesh m;
+        m.positions = {{0, 0, 0}, {1, 0.1f, 0}, {0.2f, 1, 0.3f}};
+        m.normals = {Vec3f(normalize(Vec3(0.1, 0, 1))), Vec3f(normalize(Vec3(0.4, -0.2, 1))),
+                     Vec3f(normalize(Vec3(-0.3, 0.5, 1)))};
+        m.uvs = {{0.1f, 0.2f}, {0.9f, 0.1f}, {0.3f, 0.8f}};
+        m.triangles = {{0, 1, 2}};
+        for (bool flip : {false, true}) {
+            const Shape s = Shape::triangles(m, flip);
+            // uv -> barycentrics of this triangle.
+            const Vec2 uv0 = Vec2(m.uvs[0]), e1 = Vec2(m.uvs[1]) - uv0, e2 = Vec2(m.uvs[2]) - uv0;
+            const double det = e1.x * e2.y - e1.y * e2.x;
+            auto coords = [=](const Vec2& uv) {
+                const Vec2 d = uv - uv0;
+                return Vec2((d.x * e2.y - d.y * e2.x) / det, (e1.x * d.y - e1.y * d.x) / det);
+            };
+            Pcg32 rng(5, flip);
+            for (int i = 0; i < 50; ++i) {
+                const Vec2 b = warp::squareToUniformTriangle(rand2(rng));
+                const Vec2 uv = uv0 + e1 * b.x + e2 * b.y;
+                checkDerivatives(s, 0, coords, uv, 2.0);
+                // The shading normal is the normalized interpolated normal, flipped with flipNormals.
+                const SurfaceInteraction si = s.surfaceAt(0, b);
+                const Vec3 N = Vec3(m.normals[0]) * (1 - b.x - b.y) + Vec3(m.normals[1]) * b.x + Vec3(m.normals[2]) * b.y;
+                CHECK(length(si.shading.n - normalize(N) * (flip ? -1.0 : 1.0)) < 1e-6);
+                CHECK(dot(si.ng, si.shading.n) > 0);
+            }
+        }
+    }
+    SECTION("disk (uv = r, phi/2pi)") {
+        const Shape s = Shape::disk(Transform::translate({0, 1, 0}) * Transform::rotate({1, 0, 0}, 30) *
+                                        Transform::scale({2, 2, 2}),
+                                    false);
+        Pcg32 rng(13, 0);
+        for (int i = 0; i < 50; ++i) {
+            const Vec2 uv{0.1 + 0.8 * rng.nextDouble(), rng.nextDouble()};
+            checkDerivatives(s, 0, [](const Vec2& x) { return x; }, uv, 4.0 * Pi);
+        }
+    }
+}
+
+TEST_CASE("ray offsets avoid self-intersection from scene scale 1e-3 to 1e5", "[geometry]") {
+    for (double scale : {1e-3, 1.0, 1e3, 1e5}) {
+        CAPTURE(scale);
+        // A sphere far from the origin (float ulps there are large compared to the radius' ulps) above
+        // a ground plane facing it.
+        const Vec3 c = Vec3(40, 25, -30) * scale;
+        const double r = scale;
+        TriangleMesh ground = makeRectangleMesh();
+        transformMesh(ground, Transform::translate(c - Vec3(0, 2 * r, 0)) * Transform::rotate({1, 0, 0}, -90) *
+                                  Transform::scale({10 * r, 10 * r, 1}));
+        const Scene scene = sceneOf({Shape::sphere(c, r, false), Shape::triangles(ground, false)});
+        Pcg32 rng(17, uint64_t(std::log10(scale) + 10));
+        int selfHits = 0, missedExits = 0, falseShadows = 0;
+        const int n = 2000;
+        for (int i = 0; i < n; ++i) {
+            // A point on the sphere, reached by a ray from outside as a renderer would.
+            Ray cam;
+            cam.o = c + Vec3(0, 0, 8 * r) + Vec3(rng.nextDouble() - 0.5, rng.nextDouble() - 0.5, 0) * r;
+            cam.d = normalize(c + warp::squareToUniformSphere(rand2(rng)) * (0.9 * r) - cam.o);
+            const auto hit = scene.intersect(cam);
+            if (!hit || hit->shape != 0) continue;
+            const Frame frame = Frame::fromNormal(hit->ng);
+            // Leaving outward: must not hit the sphere again (it is convex).
+            const Vec3 out = frame.toWorld(warp::squareToCosineHemisphere(rand2(rng)));
+            const auto again = scene.intersect(spawnRay(hit->endpoint(), out));
+            if (again && again->shape == 0) ++selfHits;
+            // Entering (refraction): must reach the far side, not stop at the entry point. Moving the
+            // origin by e changes the exit distance by at most |e| (1 + 1/cos) to first order (the chord
+            // leaves at the angle it entered), so twice that bounds the error.
+            const Vec3 in = -out;
+            const double cosIn = dot(out, hit->ng);
+            const Vec3 o = offsetRayOrigin(hit->endpoint(), in);
+            const auto inside = scene.intersect(spawnRay(hit->endpoint(), in));
+            const double chord = 2 * r * cosIn;
+            const double tol = 2 * length(o - hit->p) * (1 + 1 / cosIn) + 1e-12 * r;
+            if (!inside || inside->shape != 0 || std::abs(length(inside->p - hit->p) - chord) > tol) ++missedExits;
+            // A shadow ray to the ground point right below a downward-facing sphere point is free.
+            if (hit->ng.y < -0.5) {
+                const Vec3 g = hit->p - Vec3(0, (hit->p.y - (c.y - 2 * r)), 0);
+                const RayEndpoint ground{g, {0, 1, 0}, maxComponent(abs(c)) + 10 * r};
+                if (scene.occluded(spawnRayTo(hit->endpoint(), ground))) ++falseShadows;
+            }
+        }
+        CHECK(selfHits == 0);
+        CHECK(missedExits == 0);
+        CHECK(falseShadows == 0);
+        // The ground plane: rays leaving it upward never hit it again.
+        int planeSelf = 0;
+        for (int i = 0; i < n; ++i) {
+            Ray down;
+            down.o = c + Vec3((rng.nextDouble() - 0.5) * 16 * r, 0, (rng.nextDouble() - 0.5) * 16 * r) + Vec3(0, 1.5 * r, 0);
+            down.o.x += 3 * r;   // beside the sphere
+            down.d = normalize(Vec3(rng.nextDouble() - 0.5, -1, rng.nextDouble() - 0.5));
+            const auto hit = scene.intersect(down);
+            if (!hit || hit->shape != 1) continue;
+            const Vec3 up = Frame::fromNormal(hit->ng).toWorld(warp::squareToCosineHemisphere(rand2(rng)));
+            const auto again = scene.intersect(spawnRay(hit->endpoint(), up));
+            if (again && again->shape == 1) ++planeSelf;
+        }
+        CHECK(planeSelf == 0);
+    }
+}

@@ -1,0 +1,348 @@
+// The Mitsuba XML loader: the shared and shipped scenes, every element kind, and every kind of bad
+// input with its exact error line.
+#include <catch2/catch.hpp>
+
+#include <OpenImageIO/imageio.h>
+
+#include <cmath>
+
+#include "math/constants.h"
+#include "math/error.h"
+#include "scene/scene.h"
+#include "scene/scene_features.h"
+#include "test_util.h"
+
+using namespace lt;
+using Catch::Matchers::Contains;
+using Catch::Matchers::Equals;
+using Catch::Matchers::StartsWith;
+
+namespace {
+
+// A scene file whose body starts on line 2 (line 1 is the <scene> tag).
+std::string sceneFile(const test::TempDir& dir, const std::string& body, const std::string& name = "scene.xml") {
+    return dir.write(name, "<scene version=\"0.5.0\">\n" + body + "\n</scene>\n");
+}
+
+std::string errorOf(const std::string& file, const std::map<std::string, std::string>& params = {}) {
+    try {
+        (void)loadScene(file, params);
+    } catch (const Error& e) {
+        return e.what();
+    }
+    return "(no error)";
+}
+
+const Shape& onlyShape(const Scene& s) {
+    REQUIRE(s.shapes.size() == 1);
+    return s.shapes[0];
+}
+
+void writeExr(const std::string& path, int w, int h, float value) {
+    auto out = OIIO::ImageOutput::create(path);
+    REQUIRE(out);
+    OIIO::ImageSpec spec(w, h, 3, OIIO::TypeDesc::FLOAT);
+    REQUIRE(out->open(path, spec));
+    std::vector<float> px(size_t(w) * h * 3, value);
+    REQUIRE(out->write_image(OIIO::TypeDesc::FLOAT, px.data()));
+    out->close();
+}
+
+} // namespace
+
+TEST_CASE("the three shared scenes load unmodified", "[loader]") {
+    SECTION("cornell-box") {
+        const auto s = loadScene(test::sharedScene("cornell-box"));
+        CHECK(s->shapes.size() == 8);
+        CHECK(s->emitters.size() == 1);
+        CHECK(s->camera.film().width == 1024);
+        CHECK(s->camera.film().height == 1024);
+        CHECK(s->camera.film().filter.type == PixelFilter::Type::Tent);
+        CHECK(s->integrator.maxDepth == 65);
+        CHECK(s->integrator.sampleCount == 64);
+        const SceneFeatures f = analyzeScene(*s);
+        CHECK(f.triangles == 5 * 2 + 2 * 12 + 2);
+        CHECK(f.bsdfTypes.at("twosided(diffuse)") == 8);
+        CHECK_FALSE(f.specularChains);
+        CHECK_FALSE(f.glossySurfaces);
+        // ldrfilm's gamma, banner etc. are reported as ignored hints, not errors.
+        CHECK(std::find(s->ignoredHints.begin(), s->ignoredHints.end(), "film ldrfilm: gamma") != s->ignoredHints.end());
+        // The red wall sits at x = -1, the box spans y in [0, 2].
+        CHECK(s->bounds.lo.x == Approx(-1).margin(1e-5));
+        CHECK(s->bounds.hi.y == Approx(2).margin(1e-5));
+    }
+    SECTION("veach-mis") {
+        const auto s = loadScene(test::sharedScene("veach-mis"));
+        CHECK(s->shapes.size() == 9);
+        CHECK(s->emitters.size() == 3);
+        CHECK(s->integrator.maxDepth == 3);
+        CHECK(s->camera.film().width == 1280);
+        const SceneFeatures f = analyzeScene(*s);
+        CHECK(f.spheres == 3);
+        CHECK(f.glossySurfaces);
+        CHECK(f.minGlossyRoughness == Approx(0.01));
+        CHECK_FALSE(f.specularChains);
+    }
+    SECTION("veach-bidir") {
+        const auto s = loadScene(test::sharedScene("veach-bidir"));
+        CHECK(s->shapes.size() == 14);
+        CHECK(s->emitters.size() == 2);
+        CHECK(s->integrator.maxDepth == 7);
+        const SceneFeatures f = analyzeScene(*s);
+        CHECK(f.specularChains);   // the glass egg
+        CHECK(f.glossySurfaces);   // the lamp
+        CHECK(f.triangles > 10000);
+    }
+}
+
+TEST_CASE("the scenes shipped in scenes/ load and say what they need", "[loader]") {
+    const auto a = loadScene(test::shippedScene("cornell-spheres"));
+    CHECK(analyzeScene(*a).specularChains);
+    CHECK(analyzeScene(*a).spheres == 2);
+    const auto b = loadScene(test::shippedScene("portal-room"));
+    CHECK(analyzeScene(*b).hasPortals);
+    CHECK(analyzeScene(*b).portals == 1);
+    const auto c = loadScene(test::shippedScene("glossy-sky"));
+    CHECK(analyzeScene(*c).environmentLight);
+    CHECK(analyzeScene(*c).glossySurfaces);
+    CHECK(analyzeScene(*c).disks == 1);
+}
+
+TEST_CASE("shapes: every kind, with transforms and flipNormals", "[loader]") {
+    test::TempDir dir;
+    SECTION("rectangle scaled") {
+        const auto s = loadScene(sceneFile(dir, R"(<shape type="rectangle"><transform name="toWorld"><scale x="2" y="3"/></transform></shape>)"));
+        CHECK(onlyShape(*s).area() == Approx(24.0));
+        CHECK(onlyShape(*s).mesh().triangles.size() == 2);
+    }
+    SECTION("cube has 12 outward triangles") {
+        const auto s = loadScene(sceneFile(dir, R"(<shape type="cube"/>)"));
+        CHECK(onlyShape(*s).area() == Approx(24.0));
+        const SurfaceInteraction si = onlyShape(*s).surfaceAt(0, {0.2, 0.3});
+        CHECK(dot(si.ng, si.p) > 0);   // outward: the normal points away from the cube's center
+    }
+    SECTION("sphere: center, radius and toWorld compose in document order") {
+        // Mitsuba composes each new operation on the left: scale first, then translate.
+        const auto s = loadScene(sceneFile(dir, R"(<shape type="sphere"><float name="radius" value="0.5"/>
+            <transform name="toWorld"><scale value="2"/><translate x="1"/></transform></shape>)"));
+        CHECK(onlyShape(*s).radius() == Approx(1.0));
+        CHECK(onlyShape(*s).center().x == Approx(1.0));
+        const auto t = loadScene(sceneFile(dir, R"(<shape type="sphere"><transform name="toWorld"><translate x="1"/><scale value="2"/></transform></shape>)"));
+        CHECK(onlyShape(*t).center().x == Approx(2.0));
+    }
+    SECTION("disk area follows its transform; flipNormals flips") {
+        const auto s = loadScene(sceneFile(dir, R"(<shape type="disk"><transform name="toWorld"><scale value="0.5"/></transform>
+            <boolean name="flipNormals" value="true"/></shape>)"));
+        CHECK(onlyShape(*s).area() == Approx(Pi * 0.25));
+        CHECK(onlyShape(*s).surfaceAt(0, {0.5, 0.1}).ng.z == Approx(-1.0));
+    }
+    SECTION("obj with faceNormals drops the vertex normals") {
+        dir.write("quad.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvn 0 0 1\nvn 0 0 1\nvn 0 0 1\nvn 0 0 1\n"
+                              "f 1//1 2//2 3//3 4//4\n");
+        const auto s = loadScene(sceneFile(dir, R"(<shape type="obj"><string name="filename" value="quad.obj"/>
+            <boolean name="faceNormals" value="true"/></shape>)"));
+        CHECK(onlyShape(*s).mesh().triangles.size() == 2);
+        CHECK(onlyShape(*s).mesh().normals.empty());
+    }
+    SECTION("ply") {
+        dir.write("tri.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                             "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+                             "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+        const auto s = loadScene(sceneFile(dir, R"(<shape type="ply"><string name="filename" value="tri.ply"/></shape>)"));
+        CHECK(onlyShape(*s).area() == Approx(0.5));
+    }
+    SECTION("portal shapes stay out of the geometry") {
+        const auto s = loadScene(sceneFile(dir, R"(<shape type="rectangle"><boolean name="portal" value="true"/></shape>)"));
+        CHECK(s->shapes[0].portal);
+        Ray r;
+        r.o = {0, 0, 1};
+        r.d = {0, 0, -1};
+        CHECK_FALSE(s->intersect(r).has_value());
+    }
+}
+
+TEST_CASE("properties: defaults, $substitution, include, spectra, colours", "[loader]") {
+    test::TempDir dir;
+    dir.write("part.xml", R"(<scene version="0.5.0"><shape type="sphere"><float name="radius" value="$r"/></shape></scene>)");
+    const std::string main = sceneFile(dir, R"(<default name="r" value="2"/><include filename="part.xml"/>)");
+    CHECK(onlyShape(*loadScene(main)).radius() == Approx(2.0));
+    CHECK(onlyShape(*loadScene(main, {{"r", "3"}})).radius() == Approx(3.0));   // command line wins
+
+    const auto s = loadScene(sceneFile(dir, R"(
+        <bsdf type="diffuse" id="a"><spectrum name="reflectance" value="0.25"/></bsdf>
+        <bsdf type="diffuse" id="b"><spectrum name="reflectance" value="400:0.3, 700:0.3"/></bsdf>
+        <bsdf type="diffuse" id="c"><srgb name="reflectance" value="#ffffff"/></bsdf>
+        <bsdf type="diffuse" id="d"><rgb name="reflectance" value="0.1 0.2 0.3"/></bsdf>)"));
+    REQUIRE(s->bsdfs.size() == 4);
+    const Vec3 up{0, 0, 1};
+    auto albedo = [&](int i) { return s->bsdfs[size_t(i)].bsdf->eval(up, up, {0, 0}, Transport::Radiance) * Pi; };
+    CHECK(albedo(0).g == Approx(0.25));
+    // A constant spectrum maps to the same grey in RGB (the white balance of spectrumToRgb).
+    CHECK(albedo(1).r == Approx(0.3).epsilon(1e-9));
+    CHECK(albedo(1).b == Approx(0.3).epsilon(1e-9));
+    CHECK(albedo(2).g == Approx(1.0));
+    CHECK(albedo(3).b == Approx(0.3));
+}
+
+TEST_CASE("every BSDF kind builds from XML", "[loader]") {
+    test::TempDir dir;
+    const auto s = loadScene(sceneFile(dir, R"(
+        <bsdf type="diffuse"/>
+        <bsdf type="twosided"><bsdf type="diffuse"/></bsdf>
+        <bsdf type="dielectric"><float name="intIOR" value="1.33"/></bsdf>
+        <bsdf type="thindielectric"><string name="intIOR" value="bk7"/></bsdf>
+        <bsdf type="roughdielectric"><string name="distribution" value="ggx"/><float name="alpha" value="0.2"/></bsdf>
+        <bsdf type="conductor"><string name="material" value="Au"/></bsdf>
+        <bsdf type="roughconductor"><float name="alphaU" value="0.05"/><float name="alphaV" value="0.2"/>
+            <rgb name="eta" value="0.2, 0.9, 1.1"/><rgb name="k" value="3.9, 2.4, 2.1"/></bsdf>
+        <bsdf type="plastic"><rgb name="diffuseReflectance" value="0.3"/></bsdf>
+        <bsdf type="roughplastic"><float name="alpha" value="0.3"/></bsdf>
+        <bsdf type="diffuse"><texture type="checkerboard" name="reflectance"/></bsdf>)"));
+    REQUIRE(s->bsdfs.size() == 10);
+    const char* names[] = {"diffuse", "twosided", "dielectric", "thindielectric", "roughdielectric",
+                           "conductor", "roughconductor", "plastic", "roughplastic", "diffuse"};
+    for (size_t i = 0; i < 10; ++i) CHECK(s->bsdfs[i].bsdf->typeName() == names[i]);
+    CHECK(s->bsdfs[2].bsdf->hasDelta());
+    CHECK(s->bsdfs[2].bsdf->eta()->interior == Approx(1.33));
+    CHECK(s->bsdfs[4].bsdf->hasGlossy());
+    CHECK(s->bsdfs[4].bsdf->hasTransmission());
+}
+
+TEST_CASE("every emitter kind builds from XML", "[loader]") {
+    test::TempDir dir;
+    writeExr(dir.file("sky.exr"), 16, 8, 0.5f);
+    const auto s = loadScene(sceneFile(dir, R"(
+        <emitter type="point"><point name="position" x="0" y="2" z="0"/><rgb name="intensity" value="10"/></emitter>
+        <emitter type="spot"><transform name="toWorld"><lookat origin="0,3,0" target="0,0,0" up="0,0,1"/></transform>
+            <float name="cutoffAngle" value="30"/></emitter>
+        <emitter type="directional"><vector name="direction" x="0" y="-1" z="0"/><spectrum name="irradiance" value="2"/></emitter>
+        <emitter type="constant"><rgb name="radiance" value="0.5"/></emitter>
+        <emitter type="envmap"><string name="filename" value="sky.exr"/><float name="scale" value="2"/></emitter>
+        <shape type="sphere"><emitter type="area"><rgb name="radiance" value="4"/></emitter></shape>)"));
+    REQUIRE(s->emitters.size() == 6);
+    const char* names[] = {"point", "spot", "directional", "constant", "envmap", "area"};
+    for (size_t i = 0; i < 6; ++i) CHECK(s->emitters[i]->typeName() == names[i]);
+    CHECK(s->emitters[0]->isDelta());
+    CHECK(s->emitters[3]->isInfinite());
+    CHECK(s->emitters[5]->shape == 0);
+    CHECK(s->shapes[0].emitter == 5);
+    // A constant 0.5 map scaled by 2 shines with radiance 1 from every direction.
+    CHECK(s->emitters[4]->evalEnvironment(normalize(Vec3(0.3, 0.5, 0.8))).g == Approx(1.0).epsilon(1e-5));
+}
+
+TEST_CASE("the sensor: film, crop, filters, sampler and integrator defaults", "[loader]") {
+    test::TempDir dir;
+    const auto s = loadScene(sceneFile(dir, R"(
+        <integrator type="bdpt"><integer name="maxDepth" value="5"/><integer name="rrDepth" value="3"/>
+            <boolean name="lightImage" value="true"/></integrator>
+        <sensor type="perspective"><float name="fov" value="40"/><string name="fovAxis" value="y"/>
+            <sampler type="ldsampler"><integer name="sampleCount" value="32"/></sampler>
+            <film type="hdrfilm"><integer name="width" value="64"/><integer name="height" value="32"/>
+                <integer name="cropOffsetX" value="8"/><integer name="cropWidth" value="16"/>
+                <rfilter type="gaussian"><float name="stddev" value="0.25"/></rfilter></film></sensor>)"));
+    CHECK(s->integrator.maxDepth == 5);
+    CHECK(s->integrator.rrDepth == 3);
+    CHECK(s->integrator.sampleCount == 32);
+    CHECK(s->camera.film().cropX == 8);
+    CHECK(s->camera.film().cropWidth == 16);
+    CHECK(s->camera.film().cropHeight == 32);
+    CHECK(s->camera.film().filter.radius == Approx(1.0));
+    // fov 40 along y on a 2:1 film: the horizontal fov is 2 atan(2 tan 20deg).
+    CHECK(s->camera.fovX() == Approx(radToDeg(2 * std::atan(2 * std::tan(degToRad(20))))));
+    CHECK(std::find(s->ignoredHints.begin(), s->ignoredHints.end(), "integrator bdpt: lightImage") != s->ignoredHints.end());
+}
+
+TEST_CASE("bad input: one clear error line naming file, line and element", "[loader]") {
+    test::TempDir dir;
+    const std::string f = dir.file("scene.xml");
+    SECTION("missing scene file") {
+        CHECK_THAT(errorOf(dir.file("nope.xml")), Equals(dir.file("nope.xml") + ": cannot open scene file"));
+    }
+    SECTION("malformed XML") {
+        sceneFile(dir, "<shape type=\"cube\">\n<float name=\"x\" value=\"1\">\n</shape>");
+        CHECK_THAT(errorOf(f), StartsWith(f + ":") && Contains("malformed XML"));
+    }
+    SECTION("bad number") {
+        sceneFile(dir, "<shape type=\"sphere\">\n<float name=\"radius\" value=\"1.2.3\"/>\n</shape>");
+        CHECK_THAT(errorOf(f), Equals(f + ":3: <float>: '1.2.3' is not a number"));
+    }
+    SECTION("unknown shape plugin") {
+        sceneFile(dir, "<shape type=\"teapot\"/>");
+        CHECK_THAT(errorOf(f), Equals(f + ":2: <shape type=\"teapot\">: unknown shape type (lt reads obj, ply, "
+                                          "serialized, rectangle, cube, sphere, disk)"));
+    }
+    SECTION("unknown BSDF plugin") {
+        sceneFile(dir, "<bsdf type=\"velvet\" id=\"v\"/>");
+        CHECK_THAT(errorOf(f), StartsWith(f + ":2: <bsdf type=\"velvet\" id=\"v\">: unknown BSDF type"));
+    }
+    SECTION("unsupported property") {
+        sceneFile(dir, "<shape type=\"sphere\">\n<float name=\"radiuss\" value=\"1\"/>\n</shape>");
+        CHECK_THAT(errorOf(f), Equals(f + ":3: <shape type=\"sphere\"> does not support the property 'radiuss'"));
+    }
+    SECTION("property of the wrong type") {
+        sceneFile(dir, "<shape type=\"sphere\">\n<string name=\"radius\" value=\"big\"/>\n</shape>");
+        CHECK_THAT(errorOf(f), Equals(f + ":3: property 'radius' of <shape type=\"sphere\"> must be float or integer, "
+                                          "not string"));
+    }
+    SECTION("undefined reference") {
+        sceneFile(dir, "<shape type=\"cube\">\n<ref id=\"nothing\"/>\n</shape>");
+        CHECK_THAT(errorOf(f), Equals(f + ":3: <ref>: reference to undefined id 'nothing'"));
+    }
+    SECTION("undefined parameter") {
+        sceneFile(dir, "<shape type=\"sphere\">\n<float name=\"radius\" value=\"$size\"/>\n</shape>");
+        CHECK_THAT(errorOf(f), Equals(f + ":3: <float>: undefined parameter '$size' (give it with <default> or on "
+                                          "the command line)"));
+    }
+    SECTION("unknown element") {
+        sceneFile(dir, "<teapot/>");
+        CHECK_THAT(errorOf(f), Equals(f + ":2: <teapot>: unknown element"));
+    }
+    SECTION("participating media are refused by name") {
+        sceneFile(dir, "<medium type=\"homogeneous\"/>");
+        CHECK_THAT(errorOf(f), Contains("not supported by lt"));
+    }
+    SECTION("missing mesh") {
+        sceneFile(dir, "<shape type=\"obj\">\n<string name=\"filename\" value=\"gone.obj\"/>\n</shape>");
+        CHECK_THAT(errorOf(f), Equals(f + ":2: <shape type=\"obj\">: file not found: " + dir.file("gone.obj")));
+    }
+    SECTION("mesh with NaN") {
+        dir.write("nan.obj", "v 0 0 0\nv 1 0 0\nv nan 1 0\nf 1 2 3\n");
+        sceneFile(dir, "<shape type=\"obj\">\n<string name=\"filename\" value=\"nan.obj\"/>\n</shape>");
+        const std::string e = errorOf(f);
+        CHECK_THAT(e, StartsWith(f + ":2: <shape type=\"obj\">: " + dir.file("nan.obj") + ":"));
+        CHECK_THAT(e, Contains("non-finite"));
+    }
+    SECTION("degenerate triangles are removed and reported") {
+        dir.write("deg.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 2 0 0\nf 1 2 3\nf 1 2 4\n");
+        sceneFile(dir, "<shape type=\"obj\">\n<string name=\"filename\" value=\"deg.obj\"/>\n</shape>");
+        const auto s = loadScene(f);
+        REQUIRE(s->warnings.size() == 1);
+        CHECK_THAT(s->warnings[0], Equals(f + ":2: <shape type=\"obj\">: removed 1 degenerate triangle(s)"));
+        CHECK(s->shapes[0].mesh().triangles.size() == 1);
+    }
+    SECTION("unreadable texture") {
+        dir.write("tex.png", "this is not a png");
+        sceneFile(dir, "<bsdf type=\"diffuse\">\n<texture type=\"bitmap\" name=\"reflectance\">\n"
+                       "<string name=\"filename\" value=\"tex.png\"/>\n</texture>\n</bsdf>");
+        CHECK_THAT(errorOf(f), StartsWith(f + ":3: <texture type=\"bitmap\">: " + dir.file("tex.png")));
+    }
+    SECTION("area emitter outside a shape") {
+        sceneFile(dir, "<emitter type=\"area\"/>");
+        CHECK_THAT(errorOf(f), Equals(f + ":2: <emitter type=\"area\">: an area emitter must be nested inside a <shape>"));
+    }
+    SECTION("unknown conductor material lists the known ones") {
+        sceneFile(dir, "<bsdf type=\"conductor\">\n<string name=\"material\" value=\"Unobtainium\"/>\n</bsdf>");
+        CHECK_THAT(errorOf(f), StartsWith(f + ":2: <bsdf type=\"conductor\">: unknown conductor material 'Unobtainium' (known: ") &&
+                                   Contains("Cu"));
+    }
+    SECTION("singular transform") {
+        sceneFile(dir, "<shape type=\"cube\">\n<transform name=\"toWorld\">\n<matrix value=\"0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 1\"/>"
+                       "\n</transform>\n</shape>");
+        CHECK_THAT(errorOf(f), Equals(f + ":4: <matrix>: transform matrix is singular"));
+    }
+    SECTION("include cycle") {
+        dir.write("a.xml", "<scene version=\"0.5.0\"><include filename=\"scene.xml\"/></scene>");
+        sceneFile(dir, "<include filename=\"a.xml\"/>");
+        CHECK_THAT(errorOf(f), Equals(f + ": include cycle"));
+    }
+}

@@ -32,9 +32,11 @@ void Scene::finalize() {
     }
     if (!bounds.valid()) bounds.expand(Vec3(0, 0, 0));
     accel_.build(shapes, include);
-    const double radius = std::max(sceneRadius(), 1e-3);
+    const double radius = sceneRadius();
     std::vector<double> power;
+    environmentEmitters.clear();
     for (auto& e : emitters) {
+        if (e->isInfinite() && !(e->flags() & EmitterDeltaDirection)) environmentEmitters.push_back(int(&e - &emitters[0]));
         e->setSceneBounds(bounds.center(), radius);
         power.push_back(std::max(0.0, e->power().luminance()));
     }

@@ -46,12 +46,15 @@ public:
     std::vector<std::string> ignoredHints;
     std::vector<std::string> warnings;
 
-    // Bounds of the geometry (portals excluded) and its bounding sphere.
+    // Bounds of the geometry (portals excluded) and the radius of its bounding sphere: environment and
+    // directional emitters start their light paths on a disk of this radius.
     Bounds3 bounds;
-    [[nodiscard]] double sceneRadius() const { return 0.5 * bounds.diagonal(); }
+    [[nodiscard]] double sceneRadius() const { return std::max(0.5 * bounds.diagonal(), 1e-3); }
 
     // Choose an emitter in proportion to its power (luminance).
     DiscreteDistribution emitterSelection;
+    // Indices of the environment emitters (constant, envmap), which escaped rays see.
+    std::vector<int> environmentEmitters;
 
     [[nodiscard]] std::optional<SurfaceInteraction> intersect(const Ray& ray) const;
     [[nodiscard]] bool occluded(const Ray& ray) const { return accel_.occluded(ray); }

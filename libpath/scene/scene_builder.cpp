@@ -127,9 +127,10 @@ private:
         const bool flip = o.getBoolean("flipNormals", false);
         Shape shape;
         MeshLoadReport report;
-        auto loadMesh = [&](TriangleMesh mesh, bool defaultFlipV) {
-            // Mitsuba's obj loader flips v by default (flipTexCoords = true); other formats do not.
-            if (o.getBoolean("flipTexCoords", defaultFlipV))
+        auto loadMesh = [&](TriangleMesh mesh, bool loaderFlippedV) {
+            // Mitsuba's obj plugin flips v by default (flipTexCoords = true) and loadObj already does;
+            // the other formats do not. Undo or apply the flip when the scene asks otherwise.
+            if (o.getBoolean("flipTexCoords", loaderFlippedV) != loaderFlippedV)
                 for (auto& uv : mesh.uvs) uv.y = 1.0f - uv.y;
             if (o.getBoolean("faceNormals", false)) mesh.normals.clear();
             transformMesh(mesh, toWorld);
@@ -287,7 +288,8 @@ private:
             if (c->type == "box") {
                 film.filter = {PixelFilter::Type::Box, c->getFloat("radius", 0.5), 0.5};
             } else if (c->type == "tent") {
-                film.filter = {PixelFilter::Type::Tent, c->getFloat("radius", 1.0), 0.5};
+                // Mitsuba 0.5's tent has a fixed radius of one pixel; a given radius is a hint it ignores.
+                film.filter = {PixelFilter::Type::Tent, 1.0, 0.5};
             } else if (c->type == "gaussian") {
                 const double sd = c->getFloat("stddev", 0.5);
                 film.filter = {PixelFilter::Type::Gaussian, 4 * sd, sd};
@@ -295,7 +297,7 @@ private:
                 c->fail("unsupported reconstruction filter (lt has box, tent, gaussian)");
             }
             if (!(film.filter.radius > 0)) c->fail("filter radius must be positive");
-            finish(*c);
+            finish(*c, c->type == "tent" ? std::set<std::string>{"radius"} : std::set<std::string>{});
         }
         // ldrfilm is a hint: lt always writes linear EXR (the shared scenes' README says so).
         finish(o, {"banner", "gamma", "pixelFormat", "fileFormat", "componentFormat", "attachLog", "highQualityEdges",

@@ -32,8 +32,8 @@ private:
     Spectrum value_;
 };
 
-// Mitsuba's `checkerboard`: color0 where floor(u*uscale+uoffset) + floor(v*vscale+voffset) is even
-// (Mitsuba 0.5 checkerboard.cpp semantics: 2x2 checks per unit uv at scale 1).
+// Mitsuba's `checkerboard` (checkerboard.cpp): with (u', v') = uv * scale + offset, color0 where
+// int(2u') + int(2v') is even (truncation toward zero, as Mitsuba: 2x2 checks per unit of uv).
 class CheckerboardTexture final : public Texture {
 public:
     CheckerboardTexture(const Spectrum& color0, const Spectrum& color1, const Vec2& offset, const Vec2& scale)
@@ -46,9 +46,9 @@ private:
     Vec2 offset_, scale_;
 };
 
-// Mitsuba's `bitmap`: an image read through OpenImageIO, bilinear lookup with repeat wrapping, uv
-// origin at the bottom-left as in Mitsuba (v flipped against the image rows). LDR 8-bit images are
-// linearized from sRGB unless gamma says otherwise.
+// Mitsuba's `bitmap`: an image read through OpenImageIO, bilinear lookup with repeat wrapping. uv
+// (0, 0) is the top-left texel as in Mitsuba's MIP map; OBJ's bottom-left origin comes from the OBJ
+// loader flipping v (flipTexCoords). LDR 8-bit images are linearized from sRGB unless gamma says otherwise.
 class BitmapTexture final : public Texture {
 public:
     // Throws lt::Error naming the file when it cannot be read or holds NaN or Inf.

@@ -1,0 +1,125 @@
+// Texture evaluation with Mitsuba 0.5's semantics, so that scenes written for Mitsuba look the same.
+//
+// uv conventions (Mitsuba 0.5, src/librender/texture.cpp, Texture2D::eval): a 2D texture is looked up at
+// uv' = uv * (uscale, vscale) + (uoffset, voffset). Mitsuba's MIP map (include/mitsuba/render/mipmap.h,
+// evalBilinear) then addresses texel (u' * width - 0.5, v' * height - 0.5), with row 0 the first row of
+// the image file, i.e. its top. The familiar "origin at the bottom-left" of OBJ files comes from the OBJ
+// loader flipping v (Mitsuba's obj `flipTexCoords`, default true; our obj_loader.cpp does the same),
+// not from the texture; PLY and serialized uvs are used as stored.
+#include <OpenImageIO/imageio.h>
+#include <OpenImageIO/strutil.h>
+
+#include <cmath>
+
+#include "math/error.h"
+#include "scene/texture.h"
+
+namespace lt {
+
+Spectrum CheckerboardTexture::eval(const Vec2 &uv) const {
+    // Mitsuba 0.5 src/textures/checkerboard.cpp: color0 where int(2u') and int(2v') have the same parity,
+    // so one unit of uv' holds 2x2 checks. The conversion truncates toward zero (a C cast, not floor),
+    // which makes the checks around u' = 0 or v' = 0 twice as wide; we keep that to match Mitsuba.
+    const double u = uv.x * scale_.x + offset_.x;
+    const double v = uv.y * scale_.y + offset_.y;
+    if (!std::isfinite(u) || !std::isfinite(v)) return color1_; // undefined in Mitsuba (int cast of NaN)
+    const double parity = std::fmod(std::trunc(2 * u) + std::trunc(2 * v), 2.0);
+    return parity == 0 ? color0_ : color1_;
+}
+
+namespace {
+
+// IEC 61966-2-1 (sRGB) decoding, as Mitsuba's Bitmap uses for gamma = -1.
+float srgbToLinear(float v) {
+    return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
+}
+
+std::string oneLine(std::string message) {
+    while (!message.empty() && (message.back() == '\n' || message.back() == '\r')) message.pop_back();
+    for (char &c : message)
+        if (c == '\n' || c == '\r') c = ' ';
+    return message;
+}
+
+} // namespace
+
+BitmapTexture::BitmapTexture(const std::string &filename, double gamma, const Vec2 &offset, const Vec2 &scale)
+    : offset_(offset), scale_(scale) {
+    // Mitsuba's bitmap `gamma`: 0 (the default) detects the encoding from the file, -1 forces the sRGB
+    // curve, a positive value g decodes as value^g (1 = linear).
+    if (!(gamma == 0 || gamma == -1 || gamma > 0))
+        throw Error(filename + ": gamma " + std::to_string(gamma) +
+                    " is not supported (use -1 for sRGB, 0 for "
+                    "automatic or a positive exponent)");
+
+    // Keep colors as stored: OIIO would otherwise premultiply them by alpha, while Mitsuba drops alpha
+    // and uses the stored colors unchanged.
+    OIIO::ImageSpec config;
+    config.attribute("oiio:UnassociatedAlpha", 1);
+    auto in = OIIO::ImageInput::open(filename, &config);
+    if (!in) throw Error(filename + ": cannot read image (" + oneLine(OIIO::geterror()) + ")");
+    const OIIO::ImageSpec &spec = in->spec();
+    width_ = spec.width;
+    height_ = spec.height;
+    const int channels = spec.nchannels;
+    if (width_ <= 0 || height_ <= 0 || channels <= 0) throw Error(filename + ": cannot read image (empty image)");
+    std::vector<float> pixels(size_t(width_) * size_t(height_) * size_t(channels));
+    if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, pixels.data()))
+        throw Error(filename + ": cannot read image (" + oneLine(in->geterror()) + ")");
+    in->close();
+
+    // Automatic detection, as Mitsuba's Bitmap does: integer formats (PNG, JPEG, 8- and 16-bit TIFF ...)
+    // hold sRGB-encoded values unless the file says it is linear; float formats (EXR, HDR, PFM) are linear.
+    const bool floatFormat = spec.format.is_floating_point();
+    const bool fileSaysLinear = OIIO::Strutil::iequals(spec.get_string_attribute("oiio:ColorSpace"), "Linear");
+    const bool useSrgb = gamma == -1 || (gamma == 0 && !floatFormat && !fileSaysLinear);
+    const bool usePower = gamma > 0 && gamma != 1;
+    auto decode = [&](float v) {
+        if (useSrgb) return srgbToLinear(v);
+        if (usePower) return std::copysign(std::pow(std::abs(v), float(gamma)), v);
+        return v;
+    };
+
+    // Luminance (with or without alpha) becomes grey RGB; alpha and further channels are dropped, as
+    // Mitsuba's bitmap plugin reduces every image to luminance or RGB.
+    const int colorChannels = channels >= 3 ? 3 : 1;
+    rgb_.resize(size_t(width_) * size_t(height_) * 3);
+    Spectrum sum;
+    for (int y = 0; y < height_; ++y)
+        for (int x = 0; x < width_; ++x) {
+            const float *p = &pixels[(size_t(y) * size_t(width_) + size_t(x)) * size_t(channels)];
+            for (int c = 0; c < colorChannels; ++c)
+                if (!std::isfinite(p[c]))
+                    throw Error(filename + ": pixel (" + std::to_string(x) + ", " + std::to_string(y) +
+                                ") is not finite");
+            float *out = &rgb_[(size_t(y) * size_t(width_) + size_t(x)) * 3];
+            for (int c = 0; c < 3; ++c) out[c] = decode(p[colorChannels == 3 ? c : 0]);
+            sum += texel(x, y);
+        }
+    average_ = sum / (double(width_) * double(height_));
+}
+
+Spectrum BitmapTexture::texel(int x, int y) const {
+    const float *p = &rgb_[(size_t(y) * size_t(width_) + size_t(x)) * 3];
+    return {p[0], p[1], p[2]};
+}
+
+Spectrum BitmapTexture::eval(const Vec2 &uv) const {
+    // Bilinear interpolation between the four nearest texel centres (Mitsuba's evalBilinear), wrapping
+    // around the edges (Mitsuba's default wrapMode `repeat`).
+    const double u = (uv.x * scale_.x + offset_.x) * width_ - 0.5;
+    const double v = (uv.y * scale_.y + offset_.y) * height_ - 0.5;
+    if (!std::isfinite(u) || !std::isfinite(v)) return Spectrum(0.0); // Mitsuba also answers 0 here
+    const double x0 = std::floor(u), y0 = std::floor(v);
+    const double dx = u - x0, dy = v - y0;
+    auto wrap = [](double i, int size) {
+        const double m = std::fmod(i, double(size));
+        return int(m < 0 ? m + size : m);
+    };
+    const int xa = wrap(x0, width_), xb = wrap(x0 + 1, width_);
+    const int ya = wrap(y0, height_), yb = wrap(y0 + 1, height_);
+    return texel(xa, ya) * ((1 - dx) * (1 - dy)) + texel(xb, ya) * (dx * (1 - dy)) + texel(xa, yb) * ((1 - dx) * dy) +
+           texel(xb, yb) * (dx * dy);
+}
+
+} // namespace lt

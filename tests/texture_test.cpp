@@ -1,0 +1,177 @@
+// Textures: Mitsuba 0.5's checkerboard and bitmap semantics (uv transform, orientation, bilinear
+// lookups with repeat wrapping, sRGB / gamma decoding) and the error paths of BitmapTexture.
+#include <OpenImageIO/imageio.h>
+
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <limits>
+#include <string>
+#include <unistd.h>
+#include <vector>
+
+#include "math/error.h"
+#include "scene/texture.h"
+
+namespace fs = std::filesystem;
+using namespace lt;
+
+namespace {
+
+struct TempDir {
+    fs::path path;
+    TempDir() {
+        static int counter = 0;
+        path = fs::temp_directory_path() /
+               ("lt_texture_test_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
+        fs::create_directories(path);
+    }
+    ~TempDir() {
+        std::error_code ignored;
+        fs::remove_all(path, ignored);
+    }
+};
+
+// Writes an image through OpenImageIO; `pixels` are row-major from the top row, channels interleaved.
+template <class T> std::string writeImage(const fs::path &path, int width, int height, int channels,
+                                          OIIO::TypeDesc type, const std::vector<T> &pixels) {
+    auto out = OIIO::ImageOutput::create(path.string());
+    REQUIRE(out);
+    OIIO::ImageSpec spec(width, height, channels, type);
+    spec.attribute("oiio:UnassociatedAlpha", 1); // write colors as given, not divided by alpha
+    REQUIRE(out->open(path.string(), spec));
+    REQUIRE(out->write_image(OIIO::TypeDescFromC<T>::value(), pixels.data()));
+    REQUIRE(out->close());
+    return path.string();
+}
+
+std::string errorOf(const std::function<void()> &f) {
+    try {
+        f();
+    } catch (const Error &e) {
+        return e.what();
+    }
+    return "(no error)";
+}
+
+double srgbToLinear(double v) {
+    return v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4);
+}
+
+void checkSpectrum(const Spectrum &got, const Spectrum &want, double eps = 1e-6) {
+    INFO("got (" << got.r << ", " << got.g << ", " << got.b << "), want (" << want.r << ", " << want.g << ", " << want.b
+                 << ")");
+    CHECK(std::abs(got.r - want.r) <= eps);
+    CHECK(std::abs(got.g - want.g) <= eps);
+    CHECK(std::abs(got.b - want.b) <= eps);
+}
+
+const Vec2 kNoOffset(0, 0), kUnitScale(1, 1);
+
+} // namespace
+
+TEST_CASE("checkerboard: Mitsuba 0.5's 2x2 checks per unit uv, with its truncation at zero", "[texture]") {
+    const Spectrum c0(0.4), c1(0.2);
+    const CheckerboardTexture board(c0, c1, kNoOffset, kUnitScale);
+    // color0 where int(2u) + int(2v) is even (checkerboard.cpp).
+    CHECK(board.eval({0.1, 0.1}) == c0);
+    CHECK(board.eval({0.6, 0.1}) == c1);
+    CHECK(board.eval({0.1, 0.6}) == c1);
+    CHECK(board.eval({0.6, 0.6}) == c0);
+    CHECK(board.eval({1.1, 0.1}) == c0);
+    // int() truncates toward zero: (-0.5, 0.5) is one check twice as wide as the others.
+    CHECK(board.eval({-0.2, 0.1}) == c0);
+    CHECK(board.eval({-0.6, 0.1}) == c1);
+    CHECK(board.eval({-1.1, 0.1}) == c0);
+    checkSpectrum(board.average(), Spectrum(0.3));
+
+    // uv' = uv * scale + offset (Texture2D::eval): scale 4 puts (0.2, 0) in check int(1.6) = 1.
+    const CheckerboardTexture scaled(c0, c1, Vec2(0, 0), Vec2(4, 1));
+    CHECK(scaled.eval({0.2, 0.1}) == c1);
+    const CheckerboardTexture shifted(c0, c1, Vec2(0.5, 0), Vec2(1, 1));
+    CHECK(shifted.eval({0.1, 0.1}) == c1);
+}
+
+TEST_CASE("bitmap: orientation, bilinear filtering, repeat wrapping and the uv transform", "[texture]") {
+    TempDir dir;
+    // 2x2 float image, linear: top row red, green; bottom row blue, white*2.
+    const std::vector<float> pixels = {1, 0, 0, 0, 1, 0, 0, 0, 1, 2, 2, 2};
+    const std::string file = writeImage(dir.path / "quad.exr", 2, 2, 3, OIIO::TypeDesc::FLOAT, pixels);
+    const BitmapTexture tex(file, 0, kNoOffset, kUnitScale);
+    CHECK(tex.width() == 2);
+    CHECK(tex.height() == 2);
+    // Mitsuba's MIP map: texel (u*w - 0.5, v*h - 0.5), row 0 = the image's first (top) row.
+    checkSpectrum(tex.eval({0.25, 0.25}), Spectrum(1, 0, 0));
+    checkSpectrum(tex.eval({0.75, 0.25}), Spectrum(0, 1, 0));
+    checkSpectrum(tex.eval({0.25, 0.75}), Spectrum(0, 0, 1));
+    checkSpectrum(tex.eval({0.75, 0.75}), Spectrum(2, 2, 2));
+    // Halfway between the two top texels, and across the left edge (wraps to the right column).
+    checkSpectrum(tex.eval({0.5, 0.25}), Spectrum(0.5, 0.5, 0));
+    checkSpectrum(tex.eval({0.0, 0.25}), Spectrum(0.5, 0.5, 0));
+    // The centre mixes all four equally.
+    checkSpectrum(tex.eval({0.5, 0.5}), Spectrum(0.75, 0.75, 0.75));
+    // Repeat wrapping, also for negative uv.
+    checkSpectrum(tex.eval({1.25, -0.75}), Spectrum(1, 0, 0));
+    checkSpectrum(tex.eval({-3.25, 7.75}), Spectrum(2, 2, 2));
+    checkSpectrum(tex.average(), Spectrum(0.75, 0.75, 0.75));
+
+    // uv' = uv * scale + offset.
+    const BitmapTexture scaled(file, 0, Vec2(0.5, 0), Vec2(2, 2));
+    checkSpectrum(scaled.eval({0.125, 0.125}), Spectrum(0, 1, 0)); // uv' = (0.75, 0.25)
+}
+
+TEST_CASE("bitmap: 8-bit images are decoded from sRGB unless gamma says otherwise", "[texture]") {
+    TempDir dir;
+    // One RGBA pixel row: (128, 64, 255, alpha 10), (0, 255, 32, alpha 255). Alpha is ignored.
+    const std::vector<unsigned char> rgba = {128, 64, 255, 10, 0, 255, 32, 255};
+    const std::string png = writeImage(dir.path / "row.png", 2, 1, 4, OIIO::TypeDesc::UINT8, rgba);
+    auto value = [](int byte) { return byte / 255.0; };
+    const double eps = 1e-5;
+
+    const BitmapTexture automatic(png, 0, kNoOffset, kUnitScale);
+    checkSpectrum(automatic.eval({0.25, 0.5}), Spectrum(srgbToLinear(value(128)), srgbToLinear(value(64)), 1.0), eps);
+    const BitmapTexture srgb(png, -1, kNoOffset, kUnitScale);
+    checkSpectrum(srgb.eval({0.75, 0.5}), Spectrum(0, 1, srgbToLinear(value(32))), eps);
+    const BitmapTexture linear(png, 1, kNoOffset, kUnitScale);
+    checkSpectrum(linear.eval({0.25, 0.5}), Spectrum(value(128), value(64), 1), eps);
+    const BitmapTexture gamma22(png, 2.2, kNoOffset, kUnitScale);
+    checkSpectrum(gamma22.eval({0.25, 0.5}), Spectrum(std::pow(value(128), 2.2), std::pow(value(64), 2.2), 1), eps);
+
+    // Greyscale becomes grey RGB.
+    const std::vector<unsigned char> grey = {200};
+    const std::string greyPng = writeImage(dir.path / "grey.png", 1, 1, 1, OIIO::TypeDesc::UINT8, grey);
+    checkSpectrum(BitmapTexture(greyPng, 0, kNoOffset, kUnitScale).eval({0.3, 0.7}), Spectrum(srgbToLinear(value(200))),
+                  eps);
+
+    // Float images are linear by default: values above 1 survive.
+    const std::vector<float> hdr = {4.5f, 0.25f, 0.0f};
+    const std::string exr = writeImage(dir.path / "bright.exr", 1, 1, 3, OIIO::TypeDesc::HALF, hdr);
+    checkSpectrum(BitmapTexture(exr, 0, kNoOffset, kUnitScale).eval({0.5, 0.5}), Spectrum(4.5, 0.25, 0));
+
+    CHECK(errorOf([&] { BitmapTexture(png, -2, kNoOffset, kUnitScale); }) ==
+          png + ": gamma -2.000000 is not supported (use -1 for sRGB, 0 for automatic or a positive exponent)");
+}
+
+TEST_CASE("bitmap: unreadable files and non-finite pixels are errors naming the file", "[texture]") {
+    TempDir dir;
+    const std::string missing = (dir.path / "missing.png").string();
+    const std::string missingError = errorOf([&] { BitmapTexture(missing, 0, kNoOffset, kUnitScale); });
+    CHECK_THAT(missingError, Catch::StartsWith(missing + ": cannot read image (") && Catch::EndsWith(")"));
+    CHECK(missingError.find('\n') == std::string::npos);
+
+    const std::string garbage = (dir.path / "garbage.png").string();
+    std::ofstream(garbage) << "this is not a PNG file";
+    CHECK_THAT(errorOf([&] { BitmapTexture(garbage, 0, kNoOffset, kUnitScale); }),
+               Catch::StartsWith(garbage + ": cannot read image (") && Catch::EndsWith(")"));
+
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    const std::vector<float> pixels = {0, 0, 0, 1, 1, 1, 0.5f, nan, 0.5f, 0, 0, 0};
+    const std::string exr = writeImage(dir.path / "nan.exr", 2, 2, 3, OIIO::TypeDesc::FLOAT, pixels);
+    CHECK(errorOf([&] { BitmapTexture(exr, 0, kNoOffset, kUnitScale); }) == exr + ": pixel (0, 1) is not finite");
+
+    const std::vector<float> infinite = {0, std::numeric_limits<float>::infinity(), 0};
+    const std::string infExr = writeImage(dir.path / "inf.exr", 1, 1, 3, OIIO::TypeDesc::FLOAT, infinite);
+    CHECK(errorOf([&] { BitmapTexture(infExr, 0, kNoOffset, kUnitScale); }) == infExr + ": pixel (0, 0) is not finite");
+}

@@ -146,4 +146,14 @@ void PerspectiveCamera::pdfEmission(const Vec3& dirWorld, double& pdfPos, double
     pdfDir = 1 / (planeArea_ * cosTheta * cosTheta * cosTheta);
 }
 
+PerspectiveCamera PerspectiveCamera::withResolution(int width, int height) const {
+    Film f = film_;
+    f.width = width;
+    f.height = height;
+    f.cropX = f.cropY = 0;
+    f.cropWidth = width;
+    f.cropHeight = height;
+    return PerspectiveCamera(toWorld_, fovXDeg_, FovAxis::X, f, near_);
+}
+
 } // namespace lt

@@ -48,6 +48,9 @@ public:
     [[nodiscard]] const Vec3& position() const { return position_; }
     [[nodiscard]] const Vec3& forward() const { return forward_; }
     [[nodiscard]] double fovX() const { return fovXDeg_; }
+    // The same camera on a film of another size (a tool's --resolution): the horizontal field of view
+    // and the filter are kept, the crop window becomes the whole film.
+    [[nodiscard]] PerspectiveCamera withResolution(int width, int height) const;
 
     // Primary ray through a raster position (pixels of the full film).
     [[nodiscard]] Ray generateRay(const Vec2& raster) const;

@@ -1,0 +1,74 @@
+// The film: accumulates the pixel measurement I_j = integral of h_j(x) L(x) over the image plane, with h_j
+// the normalized pixel filter around pixel j (image/filter_density.h), from two kinds of samples:
+// * camera samples, drawn from h_j and credited to pixel j alone (estimate: mean of L);
+// * splats (light tracing), each spread over the pixels around it with weights h_j; a splat estimator
+//   is a sum over light paths, so it is divided by the number of light paths per pixel.
+// Only the crop window is stored. Work is merged tile by tile in a fixed order, so the result does not
+// depend on the number of threads.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "formats/records.h"
+#include "image/filter_density.h"
+#include "math/spectrum.h"
+#include "scene/camera.h"
+
+namespace lt {
+
+struct PixelRect {
+    int x0 = 0, y0 = 0, x1 = 0, y1 = 0;   // [x0, x1) x [y0, y1), in full-film pixel coordinates
+    [[nodiscard]] int width() const { return x1 - x0; }
+    [[nodiscard]] int height() const { return y1 - y0; }
+    [[nodiscard]] size_t area() const { return size_t(width()) * size_t(height()); }
+};
+
+// What one piece of work (a tile, some samples per pixel) produced.
+struct TileResult {
+    PixelRect rect;
+    std::vector<double> sum;        // 3 per pixel of rect: sum of camera estimates
+    std::vector<uint32_t> count;    // camera samples per pixel of rect
+    struct Splat {
+        Vec2 raster;
+        Spectrum value;
+    };
+    std::vector<Splat> splats;      // anywhere on the film
+    uint64_t lightPaths = 0;        // light subpaths traced (one per camera sample for BDPT)
+};
+
+class SampleFilm {
+public:
+    explicit SampleFilm(const PerspectiveCamera& camera);
+
+    [[nodiscard]] const PixelRect& window() const { return window_; }
+    [[nodiscard]] int width() const { return window_.width(); }
+    [[nodiscard]] int height() const { return window_.height(); }
+    [[nodiscard]] const FilterDensity& filter() const { return filter_; }
+
+    // A camera sample's raster position for pixel (x, y) (full-film coordinates).
+    [[nodiscard]] Vec2 sampleRaster(int x, int y, const Vec2& u) const {
+        return Vec2(x + 0.5, y + 0.5) + filter_.sample(u);
+    }
+
+    void merge(const TileResult& tile);
+
+    // The current estimate, RGB float, rows top to bottom, crop window only.
+    [[nodiscard]] std::vector<float> develop() const;
+    // Camera samples per pixel (crop window).
+    [[nodiscard]] const std::vector<uint32_t>& sampleCounts() const { return count_; }
+    [[nodiscard]] uint64_t lightPaths() const { return lightPaths_; }
+    [[nodiscard]] uint64_t cameraSamples() const { return cameraSamples_; }
+    // The developed image as a file buffer: channels R, G, B, per-pixel sample counts, and the number of
+    // camera samples as its merge weight (buffers of independent runs average by it).
+    [[nodiscard]] file::Buffer toBuffer() const;
+
+private:
+    PixelRect window_;
+    FilterDensity filter_;
+    std::vector<double> sum_, splat_;
+    std::vector<uint32_t> count_;
+    uint64_t lightPaths_ = 0, cameraSamples_ = 0;
+};
+
+} // namespace lt

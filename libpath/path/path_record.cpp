@@ -1,0 +1,59 @@
+#include "path/path_record.h"
+
+namespace lt {
+
+namespace {
+
+file::VertexRecord toVertexRecord(const Scene& scene, const PathVertex& v) {
+    file::VertexRecord r;
+    switch (v.type) {
+    case VertexType::Camera: r.kind = file::VertexKind::Camera; break;
+    case VertexType::Light: r.kind = file::VertexKind::Light; break;
+    case VertexType::Surface: r.kind = file::VertexKind::Surface; break;
+    }
+    r.lobe = v.lobe;
+    // Degenerate position: the pinhole and point-like lights; degenerate direction: directional light.
+    if (v.type == VertexType::Camera || (v.type == VertexType::Light && !v.infinite && !v.isOnSurface())) r.flags |= 1;
+    if (v.emitter && (v.emitter->flags() & EmitterDeltaDirection)) r.flags |= 2;
+    r.shape = v.si.shape;
+    r.prim = v.si.prim;
+    r.coords = {v.si.coords.x, v.si.coords.y};
+    r.p = {v.si.p.x, v.si.p.y, v.si.p.z};
+    r.ng = {float(v.si.ng.x), float(v.si.ng.y), float(v.si.ng.z)};
+    const Vec3& ns = v.si.shading.n;
+    r.ns = v.type == VertexType::Surface ? std::array<float, 3>{float(ns.x), float(ns.y), float(ns.z)} : r.ng;
+    if (v.type == VertexType::Surface && v.si.shape >= 0) {
+        r.bsdf = scene.shapes[size_t(v.si.shape)].bsdf;
+        if (v.bsdf) r.roughness = float(v.bsdf->roughness(v.si.uv));
+    }
+    r.light = v.emitterIndex;
+    r.pdfFwd = v.pdfFwd;
+    r.pdfRev = v.pdfRev;
+    return r;
+}
+
+} // namespace
+
+file::PathRecord toPathRecord(const Scene& scene, const StrategyPath& path, uint64_t stream, uint64_t offset) {
+    file::PathRecord rec;
+    rec.vertices.reserve(size_t(path.s + path.t));
+    for (int i = 0; i < path.s; ++i) {
+        const PathVertex& v = (i == 0 && path.s == 1 && path.sampled) ? *path.sampled : (*path.light)[size_t(i)];
+        rec.vertices.push_back(toVertexRecord(scene, v));
+    }
+    for (int i = path.t - 1; i >= 0; --i) {
+        const PathVertex& v = (i == 0 && path.t == 1 && path.sampled) ? *path.sampled : (*path.camera)[size_t(i)];
+        rec.vertices.push_back(toVertexRecord(scene, v));
+    }
+    rec.raster = {float(path.raster.x), float(path.raster.y)};
+    rec.s = uint16_t(path.s);
+    rec.t = uint16_t(path.t);
+    rec.contribution = {float(path.unweighted.r), float(path.unweighted.g), float(path.unweighted.b)};
+    rec.misWeight = path.misWeight;
+    rec.weight = std::max(0.0, (path.unweighted * path.misWeight).luminance());
+    rec.rngStream = stream;
+    rec.rngOffset = offset;
+    return rec;
+}
+
+} // namespace lt

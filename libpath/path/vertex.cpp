@@ -1,0 +1,129 @@
+#include "path/vertex.h"
+
+#include "bsdf/shading_correction.h"
+#include "math/constants.h"
+#include "scene/measure.h"
+
+namespace lt {
+
+bool PathVertex::isConnectible() const {
+    switch (type) {
+    case VertexType::Camera: return true;
+    case VertexType::Light: return emitter == nullptr || !(emitter->flags() & EmitterDeltaDirection);
+    case VertexType::Surface: return bsdf && (bsdf->hasDiffuse() || bsdf->hasGlossy());
+    }
+    return false;
+}
+
+Vec3 PathVertex::directionTo(const PathVertex& next) const {
+    if (infinite) return si.ng;             // an environment vertex sends light along its travel direction
+    if (next.infinite) return -next.si.ng;  // toward the sky, against the light's travel
+    return normalize(next.si.p - si.p);
+}
+
+Spectrum PathVertex::f(const PathVertex& next, Transport mode) const {
+    if (type != VertexType::Surface || !bsdf) return {};
+    const WorldBsdf wb{*bsdf, si.shading, si.ng, si.uv};
+    return wb.eval(wi, directionTo(next), mode);
+}
+
+double PathVertex::convertDensity(double pdfSolidAngle, const PathVertex& next) const {
+    // Directions to an environment vertex keep their solid-angle measure (pbrt-v3 ConvertDensity).
+    if (next.infinite) return pdfSolidAngle;
+    return pdfSolidAngleToArea(pdfSolidAngle, si.p, next.si.p, next.isOnSurface() ? next.si.ng : Vec3());
+}
+
+double PathVertex::pdf(const Scene& scene, const PathVertex* prev, const PathVertex& next) const {
+    if (type == VertexType::Light) return pdfLight(scene, next);
+    const Vec3 wn = directionTo(next);
+    double pdfDir = 0;
+    if (type == VertexType::Camera) {
+        double pdfPos = 0;
+        scene.camera.pdfEmission(wn, pdfPos, pdfDir);
+    } else {
+        if (!bsdf || !prev) return 0;
+        const WorldBsdf wb{*bsdf, si.shading, si.ng, si.uv};
+        pdfDir = wb.pdf(directionTo(*prev), wn);
+    }
+    return convertDensity(pdfDir, next);
+}
+
+double PathVertex::pdfLight(const Scene& scene, const PathVertex& next) const {
+    if (infinite) {
+        // Environment emission starts on a disk of the scene's radius perpendicular to the direction
+        // (emitter.h); the parallel rays reach `next` with area density pdfPos |cos| (no distance).
+        const double r = scene.sceneRadius();
+        double pdf = 1.0 / (Pi * r * r);
+        if (next.isOnSurface()) pdf *= std::abs(dot(next.si.ng, si.ng));
+        return pdf;
+    }
+    if (!emitter) return 0;
+    const Vec3 w = directionTo(next);
+    double pdfPos = 0, pdfDir = 0;
+    emitter->pdfEmission(si.p, isOnSurface() ? si.ng : Vec3(), w, pdfPos, pdfDir);
+    return convertDensity(pdfDir, next);
+}
+
+double PathVertex::pdfLightOrigin(const Scene& scene, const PathVertex& next) const {
+    if (infinite) return infiniteLightDensity(scene, -si.ng);
+    if (!emitter || emitterIndex < 0) return 0;
+    double pdfPos = 0, pdfDir = 0;
+    emitter->pdfEmission(si.p, isOnSurface() ? si.ng : Vec3(), directionTo(next), pdfPos, pdfDir);
+    return scene.emitterSelection.pmf(size_t(emitterIndex)) * pdfPos;
+}
+
+Spectrum PathVertex::Le(const Scene& scene, const PathVertex& toward) const {
+    if (infinite) {
+        Spectrum sum;
+        for (int e : scene.environmentEmitters) sum += scene.emitters[size_t(e)]->evalEnvironment(-si.ng);
+        return sum;
+    }
+    if (!emitter) return {};
+    return emitter->evalSurface(si.p, si.ng, directionTo(toward));
+}
+
+double geometryTerm(const PathVertex& a, const PathVertex& b) {
+    const Vec3 d = b.si.p - a.si.p;
+    const double dist2 = lengthSquared(d);
+    if (!(dist2 > 0)) return 0;
+    const Vec3 w = d / std::sqrt(dist2);
+    double g = 1.0 / dist2;
+    if (a.isOnSurface()) g *= std::abs(dot(a.si.ng, w));
+    if (b.isOnSurface()) g *= std::abs(dot(b.si.ng, w));
+    return g;
+}
+
+bool visible(const Scene& scene, const PathVertex& a, const PathVertex& b) {
+    if (b.infinite) return !scene.intersect(spawnRay(a.si.endpoint(), a.directionTo(b))).has_value();
+    if (a.infinite) return visible(scene, b, a);
+    const RayEndpoint ea = a.isOnSurface() ? a.si.endpoint() : RayEndpoint{a.si.p, {}, 0};
+    const RayEndpoint eb = b.isOnSurface() ? b.si.endpoint() : RayEndpoint{b.si.p, {}, 0};
+    return !scene.occluded(spawnRayTo(ea, eb));
+}
+
+PathVertex directLightVertex(const Scene& scene, size_t index, const DirectSample& ds) {
+    const Emitter& e = *scene.emitters[index];
+    PathVertex v;
+    v.type = VertexType::Light;
+    v.emitter = &e;
+    v.emitterIndex = int(index);
+    v.infinite = e.isInfinite();
+    if (e.shape >= 0) {
+        v.si = scene.shapes[size_t(e.shape)].surfaceAt(ds.prim, ds.coords);
+        v.si.shape = e.shape;
+    } else {
+        v.si.p = ds.p;
+        v.si.ng = v.infinite ? -ds.wi : ds.n;
+    }
+    v.beta = ds.value / (ds.pdf * scene.emitterSelection.pmf(index));
+    return v;
+}
+
+double infiniteLightDensity(const Scene& scene, const Vec3& w) {
+    double pdf = 0;
+    for (int e : scene.environmentEmitters)
+        pdf += scene.emitterSelection.pmf(size_t(e)) * scene.emitters[size_t(e)]->pdfDirect(Vec3(), Vec3(), Vec3(), w);
+    return pdf;
+}
+
+} // namespace lt

@@ -1,0 +1,42 @@
+// Candidate seed paths for the Markov chains, kept in bounded memory for any sample count.
+//
+// Chains start by resampling candidates in proportion to their weight (Veach-Guibas start-up bias
+// removal, ALGORITHMS.md 1.3). Keeping every candidate would need memory proportional to the sample
+// count, so lt keeps K independent draws, each proportional to weight over ALL candidates seen: K
+// weighted reservoirs of size one (Chao 1982) run at once. A reservoir replaces its path by the new
+// candidate with probability w / W (W the weight seen so far); the number of reservoirs that do is
+// Binomial(K, w / W), and which ones is uniform. A chain then picks one of the K draws uniformly: that is
+// a draw proportional to weight from the full candidate set, exactly what start-up needs.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "formats/records.h"
+#include "math/rng.h"
+
+namespace lt {
+
+class SeedReservoir {
+public:
+    SeedReservoir(size_t capacity, uint64_t seed);
+
+    // Offer one candidate (its weight is rec.weight; zero or non-finite weights are not candidates).
+    void add(const file::PathRecord& rec);
+
+    [[nodiscard]] double totalWeight() const { return total_; }
+    [[nodiscard]] uint64_t candidates() const { return candidates_; }
+    [[nodiscard]] size_t capacity() const { return slots_.size(); }
+    // The K draws (fewer only when no candidate had weight); the same path may appear several times.
+    [[nodiscard]] std::vector<file::PathRecord> draws() const;
+
+private:
+    [[nodiscard]] size_t binomial(size_t n, double p);
+
+    std::vector<std::shared_ptr<const file::PathRecord>> slots_;
+    Pcg32 rng_;
+    double total_ = 0;
+    uint64_t candidates_ = 0;
+};
+
+} // namespace lt

@@ -1,0 +1,235 @@
+// The pixel estimators (BDPT with MIS, each BDPT strategy alone, the path tracer) against scenes with
+// analytic answers. Tolerances come from the spread of the pixel estimates (each pixel is an independent
+// estimate of the same value in these scenes), never from observed values.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+#include "math/constants.h"
+#include "sampling/render.h"
+#include "scene/scene.h"
+#include "test_util.h"
+
+using namespace lt;
+
+namespace {
+
+struct PixelStats {
+    double mean = 0, stderr_ = 0;
+    size_t n = 0;
+};
+
+// Mean and standard error of one channel over the pixels in [x0, x1) x [y0, y1) of the crop window.
+PixelStats stats(const std::vector<float>& img, int width, int x0, int y0, int x1, int y1, int c = 1) {
+    PixelStats s;
+    double sum = 0, sum2 = 0;
+    for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x) {
+            const double v = img[3 * (size_t(y) * size_t(width) + size_t(x)) + size_t(c)];
+            sum += v;
+            sum2 += v * v;
+            ++s.n;
+        }
+    s.mean = sum / double(s.n);
+    const double var = std::max(0.0, sum2 / double(s.n) - s.mean * s.mean) * double(s.n) / double(s.n - 1);
+    s.stderr_ = std::sqrt(var / double(s.n));
+    return s;
+}
+
+std::vector<float> renderImage(const Scene& scene, PixelMethod method, int spp, BdptSettings b, uint64_t seed = 1,
+                               int threads = 2) {
+    SampleFilm film(scene.camera);
+    RenderSettings rs;
+    rs.method = method;
+    rs.bdpt = b;
+    rs.spp = spp;
+    rs.seed = seed;
+    rs.threads = threads;
+    const RenderStats st = render(scene, rs, film, {}, nullptr);
+    REQUIRE(st.health.nonFinite == 0);
+    return film.develop();
+}
+
+// A closed box whose walls all emit Le = 1 and reflect diffusely with albedo rho, seen from inside.
+std::string furnaceBox(const test::TempDir& dir, double rho, int maxDepth) {
+    return dir.write("furnace.xml", R"(<scene version="0.5.0">
+  <integrator type="path"><integer name="maxDepth" value=")" + std::to_string(maxDepth) + R"("/></integrator>
+  <sensor type="perspective"><float name="fov" value="60"/>
+    <transform name="toWorld"><lookat origin="0.1,0.2,0.3" target="1,0.5,-2" up="0,1,0"/></transform>
+    <film type="hdrfilm"><integer name="width" value="24"/><integer name="height" value="24"/><rfilter type="box"/></film>
+  </sensor>
+  <shape type="cube"><boolean name="flipNormals" value="true"/>
+    <bsdf type="diffuse"><rgb name="reflectance" value=")" + std::to_string(rho) + R"("/></bsdf>
+    <emitter type="area"><rgb name="radiance" value="1"/></emitter>
+  </shape>
+</scene>)");
+}
+
+} // namespace
+
+TEST_CASE("furnace box: every pixel is Le * sum of rho^k for k < maxDepth", "[render]") {
+    test::TempDir dir;
+    const double rho = 0.5;
+    for (int depth : {1, 3, 6}) {
+        CAPTURE(depth);
+        const auto scene = loadScene(furnaceBox(dir, rho, depth));
+        double expected = 0;
+        for (int k = 0; k < depth; ++k) expected += std::pow(rho, k);
+        BdptSettings b;
+        b.maxDepth = depth;
+        for (PixelMethod m : {PixelMethod::Bdpt, PixelMethod::PathTracing}) {
+            CAPTURE(int(m));
+            const auto img = renderImage(*scene, m, 16, b);
+            const PixelStats s = stats(img, 24, 0, 0, 24, 24);
+            // 5 standard errors: a false failure has probability below 1e-6 per check.
+            // Plus the float32 rounding of the film's output (2^-24 relative, a few roundings).
+            CHECK(std::abs(s.mean - expected) < 5 * s.stderr_ + 1e-6 * expected);
+        }
+    }
+}
+
+TEST_CASE("furnace box: each BDPT strategy alone is unbiased for its path length", "[render]") {
+    test::TempDir dir;
+    const double rho = 0.6;
+    const int depth = 3;
+    const auto scene = loadScene(furnaceBox(dir, rho, depth));
+    // Paths of exactly k edges carry Le rho^(k-1); a strategy (s, t) samples paths of s + t - 1 edges.
+    for (int s = 0; s <= 3; ++s)
+        for (int t = 1; t <= 4; ++t) {
+            const int edges = s + t - 1;
+            if (edges < 1 || edges > depth || (s == 1 && t == 1)) continue;
+            CAPTURE(s, t);
+            BdptSettings b;
+            b.maxDepth = depth;
+            b.onlyS = s;
+            b.onlyT = t;
+            const auto img = renderImage(*scene, PixelMethod::Bdpt, 32, b);
+            const PixelStats st = stats(img, 24, 0, 0, 24, 24);
+            const double expected = std::pow(rho, edges - 1);
+            CHECK(std::abs(st.mean - expected) < 5 * st.stderr_ + 1e-6 * expected);
+        }
+}
+
+TEST_CASE("a convex diffuse sphere under a uniform environment has radiance albedo * L", "[render]") {
+    test::TempDir dir;
+    const auto scene = loadScene(dir.write("sky.xml", R"(<scene version="0.5.0">
+  <integrator type="path"><integer name="maxDepth" value="-1"/></integrator>
+ <sensor type="perspective"><float name="fov" value="40"/>
+    <transform name="toWorld"><lookat origin="0,0,5" target="0,0,0" up="0,1,0"/></transform>
+    <film type="hdrfilm"><integer name="width" value="32"/><integer name="height" value="32"/><rfilter type="box"/></film>
+  </sensor>
+  <emitter type="constant"><rgb name="radiance" value="2"/></emitter>
+  <shape type="sphere"><float name="radius" value="1"/>
+    <bsdf type="diffuse"><rgb name="reflectance" value="0.7"/></bsdf></shape>
+</scene>)"));
+    for (PixelMethod m : {PixelMethod::Bdpt, PixelMethod::PathTracing}) {
+        CAPTURE(int(m));
+        const auto img = renderImage(*scene, m, 16, BdptSettings{});
+        // The sphere subtends 11.5 degrees around the axis: the central 8 x 8 pixels (+-5 degrees) see
+        // only the sphere, the 3 x 3 corners (24-27 degrees off axis) only the sky.
+        const PixelStats s = stats(img, 32, 12, 12, 20, 20);
+        CHECK(std::abs(s.mean - 1.4) < 5 * s.stderr_ + 1e-6);
+        // The corners see the sky.
+        const PixelStats c = stats(img, 32, 0, 0, 3, 3);
+        CHECK(c.mean == Approx(2.0).epsilon(1e-6));
+    }
+}
+
+TEST_CASE("rendering is bit-identical whatever the thread count", "[render]") {
+    test::TempDir dir;
+    const auto scene = loadScene(furnaceBox(dir, 0.5, 4));
+    BdptSettings b;
+    b.maxDepth = 4;
+    const auto one = renderImage(*scene, PixelMethod::Bdpt, 4, b, 7, 1);
+    const auto two = renderImage(*scene, PixelMethod::Bdpt, 4, b, 7, 2);
+    CHECK(one == two);
+}
+
+TEST_CASE("a diffuse plane under a point light: L = rho/pi I cos / d^2", "[render]") {
+    test::TempDir dir;
+    // Camera 4 above the plane looking straight down; point light 2 above the plane, off center.
+    const double rho = 0.6, I = 5, h = 2;
+    const Vec3 light{0.3, h, -0.2};
+    const auto scene = loadScene(dir.write("plane.xml", R"(<scene version="0.5.0">
+  <integrator type="path"><integer name="maxDepth" value="2"/></integrator>
+  <sensor type="perspective"><float name="fov" value="50"/>
+    <transform name="toWorld"><lookat origin="0,4,0" target="0,0,0" up="0,0,-1"/></transform>
+    <film type="hdrfilm"><integer name="width" value="24"/><integer name="height" value="24"/><rfilter type="box"/></film>
+  </sensor>
+  <emitter type="point"><point name="position" x="0.3" y="2" z="-0.2"/><rgb name="intensity" value="5"/></emitter>
+  <shape type="rectangle"><transform name="toWorld"><scale value="10"/><rotate x="1" angle="-90"/></transform>
+    <bsdf type="diffuse"><rgb name="reflectance" value="0.6"/></bsdf></shape>
+</scene>)"));
+    // Expected pixel values: the box-filtered radiance, integrated over each pixel by a 16 x 16 grid
+    // of rays (the radiance is smooth: the grid error is far below the Monte Carlo noise).
+    std::vector<double> expected(24 * 24);
+    for (int y = 0; y < 24; ++y)
+        for (int x = 0; x < 24; ++x) {
+            double sum = 0;
+            for (int j = 0; j < 16; ++j)
+                for (int i = 0; i < 16; ++i) {
+                    const Ray r = scene->camera.generateRay({x + (i + 0.5) / 16, y + (j + 0.5) / 16});
+                    const Vec3 p = r.o + r.d * (-r.o.y / r.d.y);
+                    const Vec3 toLight = light - p;
+                    const double d2 = lengthSquared(toLight);
+                    sum += rho / Pi * I * (toLight.y / std::sqrt(d2)) / d2;
+                }
+            expected[size_t(y * 24 + x)] = sum / 256;
+        }
+    for (PixelMethod m : {PixelMethod::Bdpt, PixelMethod::PathTracing}) {
+        CAPTURE(int(m));
+        BdptSettings b;
+        b.maxDepth = 2;
+        const auto img = renderImage(*scene, m, 8, b);
+        // Residuals of independent pixels: their mean is 0 within its standard error.
+        std::vector<float> residual(img.size());
+        for (size_t i = 0; i < expected.size(); ++i)
+            for (size_t c = 0; c < 3; ++c) residual[3 * i + c] = float(img[3 * i + c] - expected[i]);
+        const PixelStats r = stats(residual, 24, 0, 0, 24, 24);
+        CHECK(std::abs(r.mean) < 5 * r.stderr_ + 1e-6);
+        // And the image is not trivially close: the expected values span a range.
+        CHECK(*std::max_element(expected.begin(), expected.end()) > 2 * *std::min_element(expected.begin(), expected.end()));
+    }
+}
+
+TEST_CASE("BDPT and path tracing agree on the shared cornell-box", "[render]") {
+    const auto scene = loadScene(test::sharedScene("cornell-box"));
+    scene->camera = scene->camera.withResolution(36, 36);
+    const int runs = 6;
+    // Mean luminance of each of the 3 x 3 regions of the image, per independent run (seed).
+    auto regions = [&](PixelMethod m, uint64_t seed) {
+        BdptSettings b;
+        b.maxDepth = scene->integrator.maxDepth;
+        const auto img = renderImage(*scene, m, 8, b, seed);
+        std::vector<double> out(9, 0.0);
+        for (int y = 0; y < 36; ++y)
+            for (int x = 0; x < 36; ++x) {
+                const size_t i = size_t(y * 36 + x);
+                out[size_t((y / 12) * 3 + x / 12)] +=
+                    Spectrum(img[3 * i], img[3 * i + 1], img[3 * i + 2]).luminance() / 144.0;
+            }
+        return out;
+    };
+    std::vector<std::vector<double>> bd, pt;
+    for (int r = 0; r < runs; ++r) {
+        bd.push_back(regions(PixelMethod::Bdpt, 100 + uint64_t(r)));
+        pt.push_back(regions(PixelMethod::PathTracing, 200 + uint64_t(r)));
+    }
+    for (size_t k = 0; k < 9; ++k) {
+        CAPTURE(k);
+        auto meanVar = [&](const std::vector<std::vector<double>>& v, double& mean, double& var) {
+            mean = 0;
+            for (const auto& x : v) mean += x[k] / runs;
+            var = 0;
+            for (const auto& x : v) var += (x[k] - mean) * (x[k] - mean) / (runs - 1);
+        };
+        double mb, vb, mp, vp;
+        meanVar(bd, mb, vb);
+        meanVar(pt, mp, vp);
+        // Welch's t with the spread of independent runs; 5 standard errors (about 10 degrees of freedom:
+        // a false failure has probability ~5e-4 per region).
+        const double se = std::sqrt(vb / runs + vp / runs);
+        CHECK(std::abs(mb - mp) < 5 * se);
+        CHECK(mb > 0.01);
+    }
+}

@@ -1,0 +1,174 @@
+// lt-seed: render a scene with BDPT (or a path tracer) into a sample buffer, and optionally keep
+// candidate seed paths and the normalization b for the Markov chains.
+#include <cmath>
+#include <iostream>
+#include <sstream>
+
+#include "common/info.h"
+#include "common/interrupt.h"
+#include "common/progress.h"
+#include "common/tool.h"
+#include "formats/ltfile.h"
+#include "sampling/render.h"
+
+namespace {
+
+std::string seconds(double s) {
+    std::ostringstream o;
+    o.precision(s < 10 ? 2 : 0);
+    o << std::fixed << s << " s";
+    return o.str();
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"lt-seed: render a Mitsuba scene with bidirectional path tracing (every (s,t) strategy, light "
+                 "tracing included, MIS) or unidirectional path tracing with next-event estimation. Writes a "
+                 "sample buffer (develop it with lt-image) and, with --paths, candidate seed paths and the "
+                 "normalization b for lt-mutate. Same seed and sample count give a bit-identical file whatever the "
+                 "thread count. Ctrl-C stops early and still writes a valid file.",
+                 "lt-seed"};
+    std::string scenePath, out, pathsOut, method = "bdpt", mis = "power", resolution;
+    int spp = 0, maxDepth = -2, rrDepth = 0, threads = 0, tile = 32;
+    double timeLimit = 0;
+    uint64_t seed = 0;
+    size_t maxPaths = 100000;
+    bool quiet = false;
+    std::vector<std::string> defines;
+    app.add_option("SCENE", scenePath, "Mitsuba 0.5/0.6 scene (.xml)")->required();
+    app.add_option("-o,--output", out, "output sample buffer (.lts), or - for stdout")->required();
+    app.add_option("--method", method, "bdpt (default) or pt")->check(CLI::IsMember({"bdpt", "pt"}));
+    app.add_option("--spp", spp, "samples per pixel (default: the scene's sampleCount; with --time, an upper bound)")
+        ->check(CLI::PositiveNumber);
+    app.add_option("--time", timeLimit, "render for this many seconds (whole passes over the image)")
+        ->check(CLI::PositiveNumber);
+    app.add_option("--max-depth", maxDepth, "longest path in edges, Mitsuba's meaning: 1 = emitters seen directly, "
+                                            "-1 = unbounded (default: the scene's integrator maxDepth)");
+    app.add_option("--rr-depth", rrDepth, "edges after which Russian roulette starts (default: the scene's rrDepth)")
+        ->check(CLI::PositiveNumber);
+    app.add_option("--mis", mis, "MIS heuristic: power (default) or balance")->check(CLI::IsMember({"power", "balance"}));
+    app.add_option("--threads", threads, "worker threads (default: all cores)")->check(CLI::NonNegativeNumber);
+    app.add_option("--seed", seed, "random seed (default 0)");
+    app.add_option("--resolution", resolution, "film size WxH, overriding the scene's (keeps the horizontal fov)");
+    app.add_option("--paths", pathsOut, "also write candidate seed paths (.ltp), or - for stdout");
+    app.add_option("--max-paths", maxPaths, "seed paths to keep: independent draws in proportion to weight (default 100000)")
+        ->check(CLI::PositiveNumber);
+    app.add_option("--tile", tile, "tile size in pixels (default 32; changes the sample order, not the estimate)")
+        ->check(CLI::PositiveNumber);
+    app.add_option("-D,--define", defines, "scene parameter NAME=VALUE, overriding the scene's <default>")
+        ->type_name("NAME=VALUE");
+    app.add_flag("-q,--quiet", quiet, "no progress output");
+
+    return lt::tool::run(app, argc, argv, [&] {
+        if (out == "-" && pathsOut == "-") throw lt::Error("only one of -o and --paths can be stdout");
+        if (pathsOut.empty() && app.count("--max-paths")) throw lt::Error("--max-paths needs --paths");
+        if (method == "pt" && !pathsOut.empty()) throw lt::Error("--paths needs --method bdpt (seed paths are BDPT strategies)");
+        auto scene = lt::loadScene(scenePath, lt::tool::parseDefines(defines));
+        if (!resolution.empty()) {
+            int w = 0, h = 0;
+            char x = 0, rest = 0;
+            std::istringstream in(resolution);
+            if (!(in >> w >> x >> h) || x != 'x' || w < 1 || h < 1 || (in >> rest))
+                throw lt::Error("--resolution expects WxH with positive integers, got '" + resolution + "'");
+            scene->camera = scene->camera.withResolution(w, h);
+        }
+        for (const auto& w : scene->warnings)
+            if (!quiet) std::cerr << "lt-seed: warning: " << w << '\n';
+
+        lt::RenderSettings rs;
+        rs.method = method == "pt" ? lt::PixelMethod::PathTracing : lt::PixelMethod::Bdpt;
+        rs.bdpt.maxDepth = maxDepth != -2 ? maxDepth : scene->integrator.maxDepth;
+        rs.bdpt.rrDepth = rrDepth > 0 ? rrDepth : scene->integrator.rrDepth;
+        rs.bdpt.mis = mis == "balance" ? lt::MisHeuristic::Balance : lt::MisHeuristic::Power;
+        if (rs.bdpt.maxDepth == 0 || rs.bdpt.maxDepth < -1)
+            throw lt::Error("--max-depth must be -1 (unbounded) or at least 1");
+        rs.spp = spp > 0 ? spp : (timeLimit > 0 ? 0 : scene->integrator.sampleCount);
+        rs.timeLimit = timeLimit;
+        rs.threads = threads;
+        rs.seed = seed;
+        rs.tileSize = tile;
+
+        // Open the outputs before the work, so a bad path fails now and not after an hour of rendering.
+        nlohmann::json params = {{"method", method},       {"spp", rs.spp},        {"time_limit", timeLimit},
+                                 {"max_depth", rs.bdpt.maxDepth}, {"rr_depth", rs.bdpt.rrDepth}, {"mis", mis},
+                                 {"seed", seed},           {"tile", tile},
+                                 {"resolution", {scene->camera.film().width, scene->camera.film().height}},
+                                 {"filter", scene->camera.film().filter.name()}};
+        lt::file::Writer writer(out, lt::file::FileKind::Buffer, lt::tool::makeInfo("lt-seed", argc, argv, params, scene.get()));
+        std::optional<lt::file::Writer> pathWriter;
+        std::optional<lt::SeedReservoir> reservoir;
+        if (!pathsOut.empty()) {
+            nlohmann::json pparams = params;
+            pparams["max_paths"] = maxPaths;
+            pparams["selection"] = "independent draws with replacement, each proportional to weight over all "
+                                   "candidates (K weighted reservoirs of size one): pick uniformly among them";
+            pparams["b_convention"] = "STAT normalization.b = integral of luminance(f) over the image plane = sum "
+                                      "over pixels of the pixel measurement";
+            pathWriter.emplace(pathsOut, lt::file::FileKind::Paths,
+                               lt::tool::makeInfo("lt-seed", argc, argv, pparams, scene.get()));
+            reservoir.emplace(maxPaths, seed ^ 0x9e3779b97f4a7c15ULL);
+        }
+
+        lt::tool::installInterruptHandler();
+        lt::SampleFilm film(scene->camera);
+        lt::tool::Progress progress("lt-seed", quiet);
+        const auto stats = lt::render(
+            *scene, rs, film,
+            [&](const lt::RenderProgress& p) {
+                std::ostringstream d;
+                d << p.passesDone << " spp, " << seconds(p.wallSeconds);
+                double fraction = -1;
+                if (p.totalSamples > 0) {
+                    fraction = double(p.samples) / double(p.totalSamples);
+                    if (fraction > 0.02) d << ", " << seconds(p.wallSeconds * (1 / fraction - 1)) << " left";
+                } else if (timeLimit > 0) {
+                    fraction = std::min(1.0, p.wallSeconds / timeLimit);
+                }
+                progress.update(fraction, d.str());
+            },
+            &lt::tool::stopRequested(), reservoir ? &*reservoir : nullptr);
+        progress.finish();
+
+        const double pixels = double(film.width()) * double(film.height());
+        const double samplesPerPixel = double(stats.samples) / pixels;
+        writer.writeBuffer(film.toBuffer());
+        // How the run went: INFO is written before the work, so times and counts go in a STAT table.
+        const lt::file::StatTable run{"run",
+                                      {"value"},
+                                      {"samples", "spp", "passes", "wall_seconds", "cpu_seconds", "nonfinite_dropped",
+                                       "interrupted"},
+                                      {{double(stats.samples)},
+                                       {samplesPerPixel},
+                                       {double(stats.passes)},
+                                       {stats.wallSeconds},
+                                       {stats.cpuSeconds},
+                                       {double(stats.health.nonFinite)},
+                                       {stats.interrupted ? 1.0 : 0.0}}};
+        writer.writeStats(run);
+        writer.finish();
+
+        if (pathWriter) {
+            // b: the integral of luminance over the image (ALGORITHMS.md 1.3), i.e. the sum over pixels of
+            // the pixel measurement: the candidates' weights sum to it times (samples / pixels).
+            const double b = stats.samples > 0 ? reservoir->totalWeight() * pixels / double(stats.samples) : 0.0;
+            const auto draws = reservoir->draws();
+            lt::file::StatTable normTable{"normalization", {"value"}, {"b", "samples", "candidates", "kept"},
+                                          {{b}, {double(stats.samples)}, {double(reservoir->candidates())},
+                                           {double(draws.size())}}};
+            for (size_t i = 0; i < draws.size(); i += 4096)
+                pathWriter->writePaths(std::span(draws).subspan(i, std::min<size_t>(4096, draws.size() - i)));
+            pathWriter->writeStats(normTable);
+            pathWriter->finish();
+            if (!quiet) std::cerr << "lt-seed: b = " << b << " (" << reservoir->candidates() << " candidates, " << draws.size()
+                                  << " kept) -> " << pathWriter->name() << '\n';
+        }
+        if (!quiet) {
+            std::cerr << "lt-seed: " << (stats.interrupted ? "interrupted after " : "") << samplesPerPixel << " spp in "
+                      << seconds(stats.wallSeconds) << " -> " << writer.name();
+            if (stats.health.nonFinite) std::cerr << " (" << stats.health.nonFinite << " non-finite samples dropped)";
+            std::cerr << '\n';
+        }
+        return stats.interrupted ? 130 : 0;
+    });
+}

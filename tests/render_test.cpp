@@ -50,15 +50,19 @@ std::vector<float> renderImage(const Scene& scene, PixelMethod method, int spp, 
     return film.develop();
 }
 
-// A closed box whose walls all emit Le = 1 and reflect diffusely with albedo rho, seen from inside.
-std::string furnaceBox(const test::TempDir& dir, double rho, int maxDepth) {
+// A closed box whose walls all emit Le = 1 and reflect diffusely with albedo rho, seen from inside;
+// `scale` shrinks the whole scene (the camera's near clip with it), `filter` picks the pixel filter.
+std::string furnaceBox(const test::TempDir& dir, double rho, int maxDepth, const std::string& filter = "box",
+                       double scale = 1) {
+    const std::string s = std::to_string(scale);
     return dir.write("furnace.xml", R"(<scene version="0.5.0">
   <integrator type="path"><integer name="maxDepth" value=")" + std::to_string(maxDepth) + R"("/></integrator>
-  <sensor type="perspective"><float name="fov" value="60"/>
-    <transform name="toWorld"><lookat origin="0.1,0.2,0.3" target="1,0.5,-2" up="0,1,0"/></transform>
-    <film type="hdrfilm"><integer name="width" value="24"/><integer name="height" value="24"/><rfilter type="box"/></film>
+  <sensor type="perspective"><float name="fov" value="60"/><float name="nearClip" value=")" + std::to_string(1e-3 * scale) + R"("/>
+    <transform name="toWorld"><lookat origin=")" + std::to_string(0.1 * scale) + "," + std::to_string(0.2 * scale) + "," +
+                                std::to_string(0.3 * scale) + R"(" target="1,0.5,-2" up="0,1,0"/></transform>
+    <film type="hdrfilm"><integer name="width" value="24"/><integer name="height" value="24"/><rfilter type=")" + filter + R"("/></film>
   </sensor>
-  <shape type="cube"><boolean name="flipNormals" value="true"/>
+  <shape type="cube"><boolean name="flipNormals" value="true"/><transform name="toWorld"><scale value=")" + s + R"("/></transform>
     <bsdf type="diffuse"><rgb name="reflectance" value=")" + std::to_string(rho) + R"("/></bsdf>
     <emitter type="area"><rgb name="radiance" value="1"/></emitter>
   </shape>
@@ -85,6 +89,27 @@ TEST_CASE("furnace box: every pixel is Le * sum of rho^k for k < maxDepth", "[re
             // Plus the float32 rounding of the film's output (2^-24 relative, a few roundings).
             CHECK(std::abs(s.mean - expected) < 5 * s.stderr_ + 1e-6 * expected);
         }
+    }
+}
+
+TEST_CASE("furnace box: border pixels with wide filters at small scene scale", "[render]") {
+    // Camera samples of border pixels land outside the crop window with tent and gaussian filters;
+    // light tracing must reach them too, or the MIS weights there sum to less than one (a loss that grows
+    // as the scene shrinks, since the t = 1 density ratio carries units of 1/length^2).
+    test::TempDir dir;
+    for (const std::string filter : {"tent", "gaussian"}) {
+        CAPTURE(filter);
+        const auto scene = loadScene(furnaceBox(dir, 0.5, 3, filter, 0.01));
+        BdptSettings b;
+        b.maxDepth = 3;
+        const auto img = renderImage(*scene, PixelMethod::Bdpt, 32, b);
+        std::vector<float> border;
+        for (int y = 0; y < 24; ++y)
+            for (int x = 0; x < 24; ++x)
+                if (x == 0 || y == 0 || x == 23 || y == 23)
+                    for (int c = 0; c < 3; ++c) border.push_back(img[3 * size_t(y * 24 + x) + size_t(c)]);
+        const PixelStats s = stats(border, int(border.size() / 3), 0, 0, int(border.size() / 3), 1);
+        CHECK(std::abs(s.mean - 1.75) < 5 * s.stderr_ + 1e-6);
     }
 }
 

@@ -1,6 +1,7 @@
 // lt-seed: render a scene with BDPT (or a path tracer) into a sample buffer, and optionally keep
 // candidate seed paths and the normalization b for the Markov chains.
 #include <cmath>
+#include <iomanip>
 #include <iostream>
 #include <sstream>
 
@@ -136,13 +137,14 @@ int main(int argc, char** argv) {
         // How the run went: INFO is written before the work, so times and counts go in a STAT table.
         const lt::file::StatTable run{"run",
                                       {"value"},
-                                      {"samples", "spp", "passes", "wall_seconds", "cpu_seconds", "nonfinite_dropped",
-                                       "interrupted"},
+                                      {"samples", "spp", "passes", "wall_seconds", "cpu_seconds", "rays",
+                                       "nonfinite_dropped", "interrupted"},
                                       {{double(stats.samples)},
                                        {samplesPerPixel},
                                        {double(stats.passes)},
                                        {stats.wallSeconds},
                                        {stats.cpuSeconds},
+                                       {double(stats.rays)},
                                        {double(stats.health.nonFinite)},
                                        {stats.interrupted ? 1.0 : 0.0}}};
         writer.writeStats(run);
@@ -165,7 +167,9 @@ int main(int argc, char** argv) {
         }
         if (!quiet) {
             std::cerr << "lt-seed: " << (stats.interrupted ? "interrupted after " : "") << samplesPerPixel << " spp in "
-                      << seconds(stats.wallSeconds) << " -> " << writer.name();
+                      << seconds(stats.wallSeconds) << " (" << std::setprecision(3) << double(stats.samples) / stats.wallSeconds / 1e3
+                      << "k samples/s, " << double(stats.rays) / stats.wallSeconds / 1e6 << "M rays/s) -> "
+                      << writer.name();
             if (stats.health.nonFinite) std::cerr << " (" << stats.health.nonFinite << " non-finite samples dropped)";
             std::cerr << '\n';
         }

@@ -93,12 +93,19 @@ double geometryTerm(const PathVertex& a, const PathVertex& b) {
     return g;
 }
 
+bool unoccluded(const Scene& scene, const RayEndpoint& a, const RayEndpoint& b) {
+    return !scene.occluded(spawnRayTo(a, b));
+}
+
+bool escapes(const Scene& scene, const RayEndpoint& from, const Vec3& dir) {
+    return !scene.occluded(spawnRay(from, dir));
+}
+
 bool visible(const Scene& scene, const PathVertex& a, const PathVertex& b) {
-    if (b.infinite) return !scene.intersect(spawnRay(a.si.endpoint(), a.directionTo(b))).has_value();
     if (a.infinite) return visible(scene, b, a);
     const RayEndpoint ea = a.isOnSurface() ? a.si.endpoint() : RayEndpoint{a.si.p, {}, 0};
-    const RayEndpoint eb = b.isOnSurface() ? b.si.endpoint() : RayEndpoint{b.si.p, {}, 0};
-    return !scene.occluded(spawnRayTo(ea, eb));
+    if (b.infinite) return escapes(scene, ea, a.directionTo(b));
+    return unoccluded(scene, ea, b.isOnSurface() ? b.si.endpoint() : RayEndpoint{b.si.p, {}, 0});
 }
 
 PathVertex directLightVertex(const Scene& scene, size_t index, const DirectSample& ds) {

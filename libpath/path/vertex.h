@@ -64,6 +64,10 @@ struct PathVertex {
 [[nodiscard]] double geometryTerm(const PathVertex& a, const PathVertex& b);
 // Whether the segment between two vertices is free of occluders.
 [[nodiscard]] bool visible(const Scene& scene, const PathVertex& a, const PathVertex& b);
+// The same for two surface points (or points without surface: zero normal), and for a ray that must
+// leave the scene (toward an environment or directional emitter).
+[[nodiscard]] bool unoccluded(const Scene& scene, const RayEndpoint& a, const RayEndpoint& b);
+[[nodiscard]] bool escapes(const Scene& scene, const RayEndpoint& from, const Vec3& dir);
 
 // The light vertex of a direct (next-event) sample: the point sampleDirect chose on emitter `index`,
 // with its throughput value / (pdf * selection probability) and its emission-origin density. BDPT's

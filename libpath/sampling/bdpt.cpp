@@ -49,6 +49,8 @@ Bdpt::Bdpt(const Scene& scene, BdptSettings settings) : scene_(scene), settings_
 void Bdpt::randomWalk(Ray ray, Spectrum beta, double pdfDir, SampleGenerator& sampler, Transport mode,
                       size_t maxVertices, std::vector<PathVertex>& path) const {
     double pdfFwd = pdfDir;
+    const double startMax = beta.maxValue() > 0 ? beta.maxValue() : 1.0;
+    double etaScale = 1;
     for (size_t added = 0; added < maxVertices;) {
         const auto hit = scene_.intersect(ray);
         PathVertex& prev = path.back();
@@ -96,11 +98,11 @@ void Bdpt::randomWalk(Ray ray, Spectrum beta, double pdfDir, SampleGenerator& sa
             pdfRev = wb.pdf(bs->wo, cur.wi);
         }
         beta *= bs->weight;
-        // Russian roulette from rrDepth edges on, with the scattering's albedo as survival probability
-        // (capped at 0.95 as in Mitsuba).
+        if (mode == Transport::Radiance && (bs->lobe & LobeTransmission)) etaScale *= bs->eta * bs->eta;
+        // Russian roulette from rrDepth edges on, on the throughput relative to the subpath's start.
         const int edges = int(path.size()) - 1;
         if (edges >= settings_.rrDepth) {
-            const double q = std::min(0.95, bs->weight.maxValue());
+            const double q = russianRouletteSurvival(beta / startMax, etaScale);
             if (!(sampler.next1D() < q)) return;
             beta /= q;
         }
@@ -189,7 +191,9 @@ Spectrum Bdpt::connect(std::vector<PathVertex>& light, std::vector<PathVertex>& 
         if (!r) return {};
         const double cosCam = dot(dir, cam.forward());
         const double We = cam.importance(dir);
-        if (!(We > 0) || !(cosCam > 0)) return {};
+        // Camera rays start at the near clip plane; points before it are invisible to them and must be
+        // to light tracing too.
+        if (!(We > 0) || !(cosCam > 0) || dist * cosCam < cam.nearClip()) return {};
         sampled = PathVertex{};
         sampled.type = VertexType::Camera;
         sampled.si.p = cam.position();

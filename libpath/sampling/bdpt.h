@@ -21,6 +21,15 @@ struct BdptSettings {
     int onlyS = -1, onlyT = -1;
 };
 
+// Russian roulette survival probability from the throughput relative to the path's start (Mitsuba 0.5,
+// pbrt-v4): q = min(0.95, max component of beta times etaScale). etaScale, the product of eta^2 over the
+// refractions so far, undoes the radiance compression of entering a denser medium, so paths inside glass
+// are not killed for it.
+[[nodiscard]] inline double russianRouletteSurvival(const Spectrum& relativeBeta, double etaScale) {
+    const double q = relativeBeta.maxValue() * etaScale;
+    return q < 0.95 ? q : 0.95;   // NaN compares false: a NaN throughput survives and is counted later
+}
+
 // A contribution that lands away from the sample's own pixel: light tracing (t = 1) connects to the
 // camera at any raster position.
 struct Splat {

@@ -18,6 +18,7 @@ Spectrum PathTracer::sample(const Vec2& raster, SampleGenerator& sampler, Sample
     Vec3 prevP = ray.o;
     double prevPdf = 0;
     bool prevDelta = true;
+    double etaScale = 1;   // product of eta^2 over refractions (see russianRouletteSurvival)
     const auto& sel = scene_.emitterSelection;
     for (int edges = 1;; ++edges) {
         const auto hit = scene_.intersect(ray);
@@ -62,13 +63,13 @@ Spectrum PathTracer::sample(const Vec2& raster, SampleGenerator& sampler, Sample
             if (ds.pdf > 0 && !ds.value.isBlack()) {
                 const Spectrum f = wb.eval(wi, ds.wi, Transport::Radiance) * std::abs(dot(ds.wi, si.ng));
                 if (!f.isBlack()) {
-                    PathVertex receiver;
-                    receiver.si = si;
-                    const PathVertex lightVertex = directLightVertex(scene_, index, ds);
-                    if (visible(scene_, receiver, lightVertex)) {
-                        const double w = em.isDelta() ? 1.0
-                                                      : misWeight2(settings_.mis, ds.pdf * sel.pmf(index), wb.pdf(wi, ds.wi));
-                        L += beta * f * lightVertex.beta * w;
+                    // Visibility needs only the light point, not its differential geometry.
+                    const bool free = em.isInfinite() ? escapes(scene_, si.endpoint(), ds.wi)
+                                                      : unoccluded(scene_, si.endpoint(), {ds.p, ds.n, ds.magnitude});
+                    if (free) {
+                        const double pdf = ds.pdf * sel.pmf(index);
+                        const double w = em.isDelta() ? 1.0 : misWeight2(settings_.mis, pdf, wb.pdf(wi, ds.wi));
+                        L += beta * f * ds.value * (w / pdf);
                     }
                 }
             }
@@ -79,11 +80,12 @@ Spectrum PathTracer::sample(const Vec2& raster, SampleGenerator& sampler, Sample
         const auto bs = wb.sample(wi, Transport::Radiance, uLobe, sampler.next2D());
         if (!bs || bs->weight.isBlack()) break;
         beta *= bs->weight;
+        if (bs->lobe & LobeTransmission) etaScale *= bs->eta * bs->eta;
         prevDelta = bs->lobe & LobeDelta;
         prevPdf = bs->pdf;
         prevP = si.p;
         if (edges >= settings_.rrDepth) {
-            const double q = std::min(0.95, bs->weight.maxValue());
+            const double q = russianRouletteSurvival(beta, etaScale);
             if (!(sampler.next1D() < q)) break;
             beta /= q;
         }

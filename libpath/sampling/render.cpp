@@ -53,6 +53,7 @@ RenderStats render(const Scene& scene, const RenderSettings& settings, SampleFil
     auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
 
     RenderStats stats;
+    const uint64_t raysBefore = EmbreeAccel::rayCount();
     uint64_t nextItem = 0;
     bool timeUp = false;
     const int threads = settings.threads > 0 ? settings.threads : tbb::this_task_arena::max_concurrency();
@@ -103,7 +104,9 @@ RenderStats render(const Scene& scene, const RenderSettings& settings, SampleFil
                         for (int y = r.rect.y0; y < r.rect.y1; ++y)
                             for (int x = r.rect.x0; x < r.rect.x1; ++x) {
                                 pixel = uint64_t(y) * uint64_t(scene.camera.film().width) + uint64_t(x);
-                                IndependentSampler sampler(mix(settings.seed ^ mix(uint64_t(item->pass))), pixel);
+                                // Initial state and stream both depend on the pixel: PCG streams that
+                                // differ only in their increment are correlated (Vigna 2018).
+                                IndependentSampler sampler(mix(mix(settings.seed ^ mix(uint64_t(item->pass))) + pixel), pixel);
                                 const Vec2 raster = film.sampleRaster(x, y, sampler.next2D());
                                 Spectrum L;
                                 if (settings.method == PixelMethod::Bdpt) {
@@ -118,6 +121,7 @@ RenderStats render(const Scene& scene, const RenderSettings& settings, SampleFil
                                 for (int c = 0; c < 3; ++c) r.sum[3 * i + size_t(c)] += L[c];
                                 ++r.count[i];
                             }
+                        EmbreeAccel::flushRayCount();
                         return item;
                     }) &
                 // 3. Merge in issue order.
@@ -141,6 +145,7 @@ RenderStats render(const Scene& scene, const RenderSettings& settings, SampleFil
     });
     stats.wallSeconds = elapsed();
     stats.cpuSeconds = cpuSeconds() - cpuStart;
+    stats.rays = EmbreeAccel::rayCount() - raysBefore;
     stats.interrupted = stop && stop->load() && !timeUp && uint64_t(stats.passes) < maxPasses;
     return stats;
 }

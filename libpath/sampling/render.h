@@ -35,6 +35,7 @@ struct RenderProgress {
 
 struct RenderStats {
     uint64_t samples = 0;
+    uint64_t rays = 0;             // rays traced (closest hit and shadow)
     int passes = 0;                // complete passes merged
     double wallSeconds = 0, cpuSeconds = 0;
     SampleHealth health;

@@ -1,49 +1,35 @@
 #include "sampling/seed_reservoir.h"
 
 #include <cmath>
-#include <unordered_set>
 
 namespace lt {
 
 SeedReservoir::SeedReservoir(size_t capacity, uint64_t seed) : slots_(capacity), rng_(seed, 0x5eed) {}
-
-size_t SeedReservoir::binomial(size_t n, double p) {
-    if (p >= 1) return n;
-    if (p <= 0) return 0;
-    // Inversion by sequential search (Devroye 1986, X.4): expected cost O(n p), which over a whole run
-    // sums to O(K log N) since p = w / W shrinks as candidates accumulate.
-    const double q = 1 - p;
-    double pmf = std::exp(double(n) * std::log1p(-p));
-    double u = rng_.nextDouble();
-    size_t k = 0;
-    while (u > pmf && k < n) {
-        u -= pmf;
-        pmf *= (double(n - k) / double(k + 1)) * (p / q);
-        ++k;
-    }
-    return k;
-}
 
 void SeedReservoir::add(const file::PathRecord& rec) {
     const double w = rec.weight;
     if (!(w > 0) || !std::isfinite(w) || slots_.empty()) return;
     ++candidates_;
     total_ += w;
-    const size_t m = binomial(slots_.size(), w / total_);
-    if (m == 0) return;
-    auto shared = std::make_shared<const file::PathRecord>(rec);
-    const size_t k = slots_.size();
-    if (m == k) {
-        for (auto& s : slots_) s = shared;
+    const double p = w / total_;
+    std::shared_ptr<const file::PathRecord> shared;
+    auto take = [&](size_t i) {
+        if (!shared) shared = std::make_shared<const file::PathRecord>(rec);
+        slots_[i] = shared;
+    };
+    if (p >= 1) {
+        for (size_t i = 0; i < slots_.size(); ++i) take(i);
         return;
     }
-    // Floyd's algorithm: m distinct slots, uniformly.
-    std::unordered_set<size_t> chosen;
-    for (size_t j = k - m; j < k; ++j) {
-        const size_t t = size_t(rng_.nextDouble() * double(j + 1));
-        const size_t pick = chosen.count(t) ? j : t;
-        chosen.insert(pick);
-        slots_[pick] = shared;
+    // Each slot switches with probability p, independently: walk the slots by geometric skips (the gap to
+    // the next switching slot is Geometric(p); Devroye 1986, X.2), exact for any p and O(K p) per call,
+    // so a whole run costs O(K log N) as p = w / W shrinks.
+    const double logQ = std::log1p(-p);
+    for (double i = -1;;) {
+        const double u = 1.0 - rng_.nextDouble();   // in (0, 1]
+        i += 1 + std::floor(std::log(u) / logQ);
+        if (!(i < double(slots_.size()))) break;
+        take(size_t(i));
     }
 }
 

@@ -4,9 +4,9 @@
 // removal, ALGORITHMS.md 1.3). Keeping every candidate would need memory proportional to the sample
 // count, so lt keeps K independent draws, each proportional to weight over ALL candidates seen: K
 // weighted reservoirs of size one (Chao 1982) run at once. A reservoir replaces its path by the new
-// candidate with probability w / W (W the weight seen so far); the number of reservoirs that do is
-// Binomial(K, w / W), and which ones is uniform. A chain then picks one of the K draws uniformly: that is
-// a draw proportional to weight from the full candidate set, exactly what start-up needs.
+// candidate with probability w / W (W the weight seen so far), independently of the others. A chain then
+// picks one of the K draws uniformly: that is a draw proportional to weight from the full candidate set,
+// exactly what start-up needs.
 #pragma once
 
 #include <memory>
@@ -31,8 +31,6 @@ public:
     [[nodiscard]] std::vector<file::PathRecord> draws() const;
 
 private:
-    [[nodiscard]] size_t binomial(size_t n, double p);
-
     std::vector<std::shared_ptr<const file::PathRecord>> slots_;
     Pcg32 rng_;
     double total_ = 0;

@@ -2,6 +2,7 @@
 
 #include <embree3/rtcore.h>
 
+#include <atomic>
 #include <cstring>
 #include <string>
 
@@ -69,6 +70,11 @@ void checkDevice(RTCDevice device, const char* what) {
     if (err != RTC_ERROR_NONE) throw Error(std::string("Embree: ") + what + " failed (error " + std::to_string(int(err)) + ")");
 }
 
+// What Embree accepts (RayK::valid): finite origin and direction, 0 <= tnear <= tfar.
+bool validRay(const Ray& ray) {
+    return isFinite(ray.o) && isFinite(ray.d) && lengthSquared(ray.d) > 0 && ray.tmin >= 0 && ray.tmax >= ray.tmin;
+}
+
 RTCRay toRtc(const Ray& ray) {
     RTCRay r{};
     r.org_x = float(ray.o.x);
@@ -85,7 +91,25 @@ RTCRay toRtc(const Ray& ray) {
     return r;
 }
 
+std::atomic<uint64_t> globalRays{0};
+thread_local uint64_t localRays = 0;
+
+// Counting privately and publishing in batches keeps the counter off the shared cache line.
+inline void countRay() {
+    if (++localRays == 4096) {
+        globalRays.fetch_add(localRays, std::memory_order_relaxed);
+        localRays = 0;
+    }
+}
+
 } // namespace
+
+uint64_t EmbreeAccel::rayCount() { return globalRays.load(std::memory_order_relaxed); }
+
+void EmbreeAccel::flushRayCount() {
+    globalRays.fetch_add(localRays, std::memory_order_relaxed);
+    localRays = 0;
+}
 
 struct EmbreeAccel::Impl {
     RTCDevice device = nullptr;
@@ -155,6 +179,8 @@ void EmbreeAccel::build(const std::vector<Shape>& shapes, const std::vector<bool
 }
 
 std::optional<RayHit> EmbreeAccel::intersect(const Ray& ray) const {
+    countRay();
+    if (!validRay(ray)) return std::nullopt;
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     RTCRayHit rh{};
@@ -181,6 +207,10 @@ std::optional<RayHit> EmbreeAccel::intersect(const Ray& ray) const {
 }
 
 bool EmbreeAccel::occluded(const Ray& ray) const {
+    countRay();
+    // A degenerate segment (its ends closer than their float offsets, or NaN) blocks: its geometry term
+    // would be unbounded, and Embree asserts on invalid rays.
+    if (!validRay(ray)) return true;
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     RTCRay r = toRtc(ray);

@@ -35,6 +35,11 @@ public:
     [[nodiscard]] std::optional<RayHit> intersect(const Ray& ray) const;
     [[nodiscard]] bool occluded(const Ray& ray) const;
 
+    // Rays traced so far by all threads (closest-hit and shadow). Each thread counts privately and adds
+    // its count here every few thousand rays and at flushRayCount(); benchmarks read it.
+    [[nodiscard]] static uint64_t rayCount();
+    static void flushRayCount();
+
 private:
     struct Impl;
     std::unique_ptr<Impl> impl_;

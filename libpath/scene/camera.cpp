@@ -119,17 +119,22 @@ std::optional<Vec2> PerspectiveCamera::rasterPosition(const Vec3& dirWorld) cons
     if (!(local.z > 0)) return std::nullopt;
     const Vec2 r{0.5 * film_.width * (1 - local.x / (local.z * tanHalfX_)),
                  0.5 * film_.height * (1 - local.y / (local.z * tanHalfY_))};
-    // Half-open window, so that floor(r) always names a rendered pixel.
-    if (!(r.x >= film_.cropX && r.x < film_.cropX + film_.cropWidth && r.y >= film_.cropY &&
-          r.y < film_.cropY + film_.cropHeight))
+    // The sensor responds on the crop window grown by the filter's radius: a border pixel's filter
+    // reaches that far, so its camera samples do, and light tracing must be able to reach the same
+    // raster positions or the MIS weights there would credit a strategy that cannot sample them.
+    const double m = film_.filter.radius;
+    if (!(r.x >= film_.cropX - m && r.x < film_.cropX + film_.cropWidth + m && r.y >= film_.cropY - m &&
+          r.y < film_.cropY + film_.cropHeight + m))
         return std::nullopt;
     return r;
 }
 
-// pbrt-v3 PerspectiveCamera::We for a pinhole: a raster position uniform on the window has area density
-// 1/A on the plane z = 1, i.e. solid-angle density 1/(A cos^3) (dA = dw / cos^3 at distance 1/cos).
-// W_e is normalized so that the integral of W_e cos over directions is 1 (Veach thesis 8.1.2: the
-// pinhole's position is a delta with pdf 1), hence W_e = 1/(A cos^4).
+// pbrt-v3 PerspectiveCamera::We for a pinhole: a raster position uniform on the crop window has area
+// density 1/A on the plane z = 1, i.e. solid-angle density 1/(A cos^3) (dA = dw / cos^3 at distance
+// 1/cos). W_e is normalized so that the integral of W_e cos over the crop window's directions is 1 (Veach
+// thesis 8.1.2: the pinhole's position is a delta with pdf 1), hence W_e = 1/(A cos^4): a light path then
+// contributes 1/N of a pixel's worth per pixel of the window (image/film.h). Both extend, unchanged, over
+// the filter margin around the window (rasterPosition).
 double PerspectiveCamera::importance(const Vec3& dirWorld) const {
     if (!rasterPosition(dirWorld)) return 0;
     const double cosTheta = dot(normalize(dirWorld), forward_);

@@ -48,6 +48,7 @@ public:
     [[nodiscard]] const Vec3& position() const { return position_; }
     [[nodiscard]] const Vec3& forward() const { return forward_; }
     [[nodiscard]] double fovX() const { return fovXDeg_; }
+    [[nodiscard]] double nearClip() const { return near_; }
     // The same camera on a film of another size (a tool's --resolution): the horizontal field of view
     // and the filter are kept, the crop window becomes the whole film.
     [[nodiscard]] PerspectiveCamera withResolution(int width, int height) const;
@@ -55,7 +56,7 @@ public:
     // Primary ray through a raster position (pixels of the full film).
     [[nodiscard]] Ray generateRay(const Vec2& raster) const;
     // The raster position a world direction from the camera position maps to, if it falls inside the
-    // crop window and in front of the camera.
+    // crop window grown by the pixel filter's radius, in front of the camera.
     [[nodiscard]] std::optional<Vec2> rasterPosition(const Vec3& dirWorld) const;
     // Importance W_e for a direction leaving the pinhole (Veach thesis 8.1.2 / pbrt-v3 PerspectiveCamera::We):
     // 1 / (A cos^4 theta) over the crop window, A the window's area on the plane at distance 1; zero outside.

@@ -37,6 +37,7 @@ struct DirectSample {
     double pdf = 0;         // solid-angle density of wi at the reference point (1 for delta emitters)
     Vec2 coords;            // (prim, coords) of p on an area emitter's shape, for path records
     uint32_t prim = 0;
+    double magnitude = 0;   // of p's primitive, for robust shadow rays (scene/ray.h)
 };
 
 struct EmissionSample {

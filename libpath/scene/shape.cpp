@@ -80,19 +80,59 @@ Shape Shape::disk(const Transform& toWorld, bool flipNormals) {
     return s;
 }
 
-SurfaceInteraction Shape::surfaceAt(uint32_t prim, const Vec2& coords) const {
-    SurfaceInteraction si;
-    si.prim = prim;
-    si.coords = coords;
+RayEndpoint Shape::pointAt(uint32_t prim, const Vec2& coords) const {
+    RayEndpoint e;
     switch (kind_) {
     case Kind::Triangles: {
         const auto& tri = mesh_.triangles[prim];
         const Vec3 p0 = toD(mesh_.positions[tri[0]]), p1 = toD(mesh_.positions[tri[1]]),
                    p2 = toD(mesh_.positions[tri[2]]);
         const double b1 = coords.x, b2 = coords.y, b0 = 1 - b1 - b2;
-        si.p = p0 * b0 + p1 * b1 + p2 * b2;
-        si.magnitude = maxComponent(max(abs(p0), max(abs(p1), abs(p2))));
-        Vec3 ng = normalize(cross(p1 - p0, p2 - p0));
+        e.p = p0 * b0 + p1 * b1 + p2 * b2;
+        e.magnitude = maxComponent(max(abs(p0), max(abs(p1), abs(p2))));
+        e.ng = normalize(cross(p1 - p0, p2 - p0));
+        if (!mesh_.normals.empty()) {
+            // The geometric normal follows the shading normal's side (pbrt-v3 Triangle): mesh files are
+            // often wound inconsistently, their normals rarely are.
+            const Vec3 N = toD(mesh_.normals[tri[0]]) * b0 + toD(mesh_.normals[tri[1]]) * b1 + toD(mesh_.normals[tri[2]]) * b2;
+            if (lengthSquared(N) > 1e-20 && dot(e.ng, N) < 0) e.ng = -e.ng;
+        }
+        break;
+    }
+    case Kind::Sphere: {
+        const double phi = coords.x * TwoPi, theta = coords.y * Pi;
+        const double st = std::sin(theta);
+        e.ng = Vec3(st * std::cos(phi), st * std::sin(phi), std::cos(theta));
+        e.p = center_ + e.ng * radius_;
+        e.magnitude = maxComponent(abs(center_)) + radius_;
+        break;
+    }
+    case Kind::Disk: {
+        const double r = coords.x, phi = coords.y * TwoPi;
+        e.p = toWorld_.point({r * std::cos(phi), r * std::sin(phi), 0});
+        e.ng = normalize(toWorld_.normal({0, 0, 1}));
+        e.magnitude = maxComponent(max(abs(bounds_.lo), abs(bounds_.hi)));
+        break;
+    }
+    }
+    if (flip_) e.ng = -e.ng;
+    return e;
+}
+
+SurfaceInteraction Shape::surfaceAt(uint32_t prim, const Vec2& coords) const {
+    SurfaceInteraction si;
+    si.prim = prim;
+    si.coords = coords;
+    switch (kind_) {
+    case Kind::Triangles: {
+        const RayEndpoint e = pointAt(prim, coords);
+        si.p = e.p;
+        si.ng = e.ng;
+        si.magnitude = e.magnitude;
+        const auto& tri = mesh_.triangles[prim];
+        const Vec3 p0 = toD(mesh_.positions[tri[0]]), p1 = toD(mesh_.positions[tri[1]]),
+                   p2 = toD(mesh_.positions[tri[2]]);
+        const double b1 = coords.x, b2 = coords.y, b0 = 1 - b1 - b2;
         // Parameterization: the mesh's uvs, or pbrt's default (0,0), (1,0), (1,1).
         Vec2 uv0{0, 0}, uv1{1, 0}, uv2{1, 1};
         if (!mesh_.uvs.empty()) {
@@ -110,38 +150,28 @@ SurfaceInteraction Shape::surfaceAt(uint32_t prim, const Vec2& coords) const {
             si.dpdv = (dp12 * duv02.x - dp02 * duv12.x) / det;
         }
         if (degenerateUv || !(lengthSquared(cross(si.dpdu, si.dpdv)) > 0)) {
-            const Frame f = Frame::fromNormal(ng);
+            const Frame f = Frame::fromNormal(si.ng);
             si.dpdu = f.s;
             si.dpdv = f.t;
             si.uv = {b1, b2};
         }
-        Vec3 ns = ng;
+        Vec3 ns = si.ng;
         if (!mesh_.normals.empty()) {
             const Vec3 n0 = toD(mesh_.normals[tri[0]]), n1 = toD(mesh_.normals[tri[1]]), n2 = toD(mesh_.normals[tri[2]]);
             const Vec3 N = n0 * b0 + n1 * b1 + n2 * b2;
             if (lengthSquared(N) > 1e-20) {
-                ns = normalize(N);
+                // pointAt already turned ng to the side of N (and flipped it with flipNormals).
+                const double sign = flip_ ? -1.0 : 1.0;
+                ns = normalize(N) * sign;
                 if (!degenerateUv) {
                     const Vec3 dn02 = n0 - n2, dn12 = n1 - n2;
-                    si.dndu = normalizedDerivative(N, (dn02 * duv12.y - dn12 * duv02.y) / det);
-                    si.dndv = normalizedDerivative(N, (dn12 * duv02.x - dn02 * duv12.x) / det);
-                } else {
-                    // Derivatives with respect to the barycentric chart used for dpdu/dpdv above are
-                    // not meaningful; leave the normal field flat (C^0 meshes without uvs are rare).
-                    si.dndu = si.dndv = Vec3();
+                    si.dndu = normalizedDerivative(N, (dn02 * duv12.y - dn12 * duv02.y) / det) * sign;
+                    si.dndv = normalizedDerivative(N, (dn12 * duv02.x - dn02 * duv12.x) / det) * sign;
                 }
-                // The geometric normal follows the shading normal's side (pbrt-v3 Triangle): mesh
-                // files are often wound inconsistently, their normals rarely are.
-                if (dot(ng, ns) < 0) ng = -ng;
+                // Without a uv chart the normal field's derivatives are not meaningful: left flat (C^0
+                // meshes without uvs are rare).
             }
         }
-        if (flip_) {
-            ng = -ng;
-            ns = -ns;
-            si.dndu = -si.dndu;
-            si.dndv = -si.dndv;
-        }
-        si.ng = ng;
         si.shading = Frame::fromNormalTangent(ns, si.dpdu);
         break;
     }
@@ -220,10 +250,10 @@ PositionSample Shape::samplePosition(const Vec2& u) const {
         break;
     }
     }
-    const SurfaceInteraction si = surfaceAt(ps.prim, ps.coords);
-    ps.p = si.p;
-    ps.n = si.ng;
-    ps.magnitude = si.magnitude;
+    const RayEndpoint e = pointAt(ps.prim, ps.coords);
+    ps.p = e.p;
+    ps.n = e.ng;
+    ps.magnitude = e.magnitude;
     return ps;
 }
 

@@ -61,6 +61,10 @@ public:
     // Full differential geometry at a point given by (prim, coords): barycentrics (b1, b2) for
     // triangles, uv for analytic shapes. The same call rebuilds a stored path vertex.
     [[nodiscard]] SurfaceInteraction surfaceAt(uint32_t prim, const Vec2& coords) const;
+    // Just the position, geometric normal (oriented exactly as surfaceAt orients it) and magnitude at
+    // (prim, coords): what sampling a point and testing its visibility need, without the differential
+    // geometry.
+    [[nodiscard]] RayEndpoint pointAt(uint32_t prim, const Vec2& coords) const;
     // Coordinates of a world point on an analytic shape (sphere, disk) for surfaceAt.
     [[nodiscard]] Vec2 analyticCoords(const Vec3& p) const;
     // Uniform point on the surface (density 1/area).

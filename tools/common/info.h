@@ -17,15 +17,14 @@ inline nlohmann::json makeInfo(const std::string& producer, int argc, char** arg
     nlohmann::json info;
     info["producer"] = producer;
     info["version"] = LT_VERSION;
-    std::string cmd;
-    for (int i = 0; i < argc; ++i) cmd += (i ? " " : "") + std::string(argv[i]);
-    info["command_line"] = cmd;
+    info["command"] = std::vector<std::string>(argv, argv + argc);
     info["parameters"] = parameters;
+    if (parameters.contains("seed")) info["seed"] = parameters["seed"];
     if (scene) info["scene"] = {{"path", scene->filename}, {"hash", file::hashHex(scene->contentHash)}};
     char date[64];
     const std::time_t now = std::time(nullptr);
     std::strftime(date, sizeof date, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
-    info["created"] = date;
+    info["times"] = {{"start", date}};
     return info;
 }
 

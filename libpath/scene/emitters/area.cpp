@@ -34,12 +34,14 @@ public:
         if (useCone(ref)) {
             pdf = sampleCone(ref, u, ds.p, ds.n);
             ds.coords = shape_.analyticCoords(ds.p);
+            ds.magnitude = shape_.pointAt(0, ds.coords).magnitude;
         } else {
             const PositionSample ps = shape_.samplePosition(u);
             ds.p = ps.p;
             ds.n = ps.n;
             ds.coords = ps.coords;
             ds.prim = ps.prim;
+            ds.magnitude = ps.magnitude;
             pdf = pdfAreaToSolidAngle(ps.pdfArea, ref, ps.p, ps.n);
         }
         const Vec3 v = ds.p - ref;

@@ -1,0 +1,56 @@
+// lt-bench-rays: the raw incoherent ray rate of a scene's acceleration structure, the bound a renderer on
+// that scene cannot beat. Rays start uniformly inside the scene's bounds in uniform directions, as a
+// path tracer's bounces do after the first; only closest-hit queries (Embree plus lt's analytic shapes),
+// without computing the differential geometry at the hit.
+#include <CLI/CLI.hpp>
+
+#include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/task_arena.h>
+
+#include <chrono>
+#include <iostream>
+
+#include "math/rng.h"
+#include "math/warp.h"
+#include "scene/scene.h"
+
+int main(int argc, char** argv) {
+    CLI::App app{"lt-bench-rays: closest-hit rays per second on a scene (random origins in its bounds, random "
+                 "directions)", "lt-bench-rays"};
+    std::string scenePath;
+    uint64_t rays = 20000000;
+    int threads = 0;
+    app.add_option("SCENE", scenePath)->required();
+    app.add_option("--rays", rays, "number of rays (default 2e7)");
+    app.add_option("--threads", threads, "threads (default: all cores)");
+    CLI11_PARSE(app, argc, argv);
+    try {
+        const auto scene = lt::loadScene(scenePath);
+        const int n = threads > 0 ? threads : tbb::this_task_arena::max_concurrency();
+        tbb::task_arena arena(n);
+        const uint64_t blocks = 1024, perBlock = rays / blocks;
+        std::atomic<uint64_t> hits{0};
+        const auto start = std::chrono::steady_clock::now();
+        arena.execute([&] {
+            tbb::parallel_for(uint64_t(0), blocks, [&](uint64_t b) {
+                lt::Pcg32 rng(b, 17);
+                uint64_t h = 0;
+                const lt::Vec3 lo = scene->bounds.lo, ext = scene->bounds.extent();
+                for (uint64_t i = 0; i < perBlock; ++i) {
+                    lt::Ray r;
+                    r.o = lo + lt::Vec3(rng.nextDouble(), rng.nextDouble(), rng.nextDouble()) * ext;
+                    r.d = lt::warp::squareToUniformSphere({rng.nextDouble(), rng.nextDouble()});
+                    if (scene->intersectHit(r)) ++h;
+                }
+                hits += h;
+            });
+        });
+        const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        std::cout << blocks * perBlock << " rays, " << n << " threads, " << s << " s: " << double(blocks * perBlock) / s / 1e6
+                  << " M rays/s (" << 100.0 * double(hits) / double(blocks * perBlock) << " % hit)\n";
+    } catch (const std::exception& e) {
+        std::cerr << "lt-bench-rays: error: " << e.what() << '\n';
+        return 1;
+    }
+    return 0;
+}

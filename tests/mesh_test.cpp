@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "math/error.h"
+#include "test_util.h"
 #include "scene/mesh.h"
 
 namespace fs = std::filesystem;
@@ -24,25 +25,7 @@ using namespace lt;
 
 namespace {
 
-// A fresh directory per test case, removed afterwards.
-struct TempDir {
-    fs::path path;
-    TempDir() {
-        static int counter = 0;
-        path = fs::temp_directory_path() /
-               ("lt_mesh_test_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
-        fs::create_directories(path);
-    }
-    ~TempDir() {
-        std::error_code ignored;
-        fs::remove_all(path, ignored);
-    }
-    std::string write(const std::string &name, const std::string &bytes) const {
-        const std::string file = (path / name).string();
-        std::ofstream(file, std::ios::binary) << bytes;
-        return file;
-    }
-};
+using test::TempDir;
 
 std::string errorOf(const std::function<void()> &f) {
     try {

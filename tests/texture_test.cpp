@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "math/error.h"
+#include "test_util.h"
 #include "scene/texture.h"
 
 namespace fs = std::filesystem;
@@ -20,19 +21,7 @@ using namespace lt;
 
 namespace {
 
-struct TempDir {
-    fs::path path;
-    TempDir() {
-        static int counter = 0;
-        path = fs::temp_directory_path() /
-               ("lt_texture_test_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
-        fs::create_directories(path);
-    }
-    ~TempDir() {
-        std::error_code ignored;
-        fs::remove_all(path, ignored);
-    }
-};
+using test::TempDir;
 
 // Writes an image through OpenImageIO; `pixels` are row-major from the top row, channels interleaved.
 template <class T> std::string writeImage(const fs::path &path, int width, int height, int channels,

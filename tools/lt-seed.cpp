@@ -30,7 +30,7 @@ int main(int argc, char** argv) {
                  "normalization b for lt-mutate. Same seed and sample count give a bit-identical file whatever the "
                  "thread count. Ctrl-C stops early and still writes a valid file.",
                  "lt-seed"};
-    std::string scenePath, out, pathsOut, method = "bdpt", mis = "power", resolution;
+    std::string scenePath, out, pathsOut, method = "bdpt", mis = "power", resolution, snapshotTimes, snapshotSamples;
     int spp = 0, maxDepth = -2, rrDepth = 0, threads = 0, tile = 32;
     double timeLimit = 0;
     uint64_t seed = 0;
@@ -55,6 +55,10 @@ int main(int argc, char** argv) {
     app.add_option("--paths", pathsOut, "also write candidate seed paths (.ltp), or - for stdout");
     app.add_option("--max-paths", maxPaths, "seed paths to keep: independent draws in proportion to weight (default 100000)")
         ->check(CLI::PositiveNumber);
+    app.add_option("--snapshots", snapshotTimes,
+                   "write progress snapshots (SNAP chunks, for lt-error): 'doubling' (1, 2, 4 ... s), "
+                   "'doubling:START', or a list of seconds '5,10,30'; taken at the end of a pass over the image");
+    app.add_option("--snapshot-samples", snapshotSamples, "write snapshots at these samples per pixel, e.g. '1,4,16'");
     app.add_option("--tile", tile, "tile size in pixels (default 32; changes the sample order, not the estimate)")
         ->check(CLI::PositiveNumber);
     app.add_option("-D,--define", defines, "scene parameter NAME=VALUE, overriding the scene's <default>")
@@ -89,9 +93,14 @@ int main(int argc, char** argv) {
         rs.threads = threads;
         rs.seed = seed;
         rs.tileSize = tile;
+        if (!snapshotTimes.empty() && !snapshotSamples.empty())
+            throw lt::Error("give --snapshots or --snapshot-samples, not both");
+        if (!snapshotTimes.empty()) rs.snapshots = lt::SnapshotSchedule::parseTimes(snapshotTimes);
+        if (!snapshotSamples.empty()) rs.snapshots = lt::SnapshotSchedule::parseSamples(snapshotSamples);
 
         // Open the outputs before the work, so a bad path fails now and not after an hour of rendering.
-        nlohmann::json params = {{"method", method},       {"spp", rs.spp},        {"time_limit", timeLimit},
+        nlohmann::json params = {{"snapshots", snapshotTimes.empty() ? snapshotSamples : snapshotTimes},
+                                 {"method", method},       {"spp", rs.spp},        {"time_limit", timeLimit},
                                  {"max_depth", rs.bdpt.maxDepth}, {"rr_depth", rs.bdpt.rrDepth}, {"mis", mis},
                                  {"seed", seed},           {"tile", tile},
                                  {"resolution", {scene->camera.film().width, scene->camera.film().height}},
@@ -128,7 +137,16 @@ int main(int argc, char** argv) {
                 }
                 progress.update(fraction, d.str());
             },
-            &lt::tool::stopRequested(), reservoir ? &*reservoir : nullptr);
+            &lt::tool::stopRequested(), reservoir ? &*reservoir : nullptr,
+            [&](const lt::RenderProgress& p, const lt::SampleFilm& f) {
+                lt::file::Snapshot snap;
+                snap.wallSeconds = p.wallSeconds;
+                snap.cpuSeconds = p.cpuSeconds;
+                snap.samples = p.samples;
+                snap.overheadSeconds = p.snapshotSeconds;
+                snap.buffer = f.toBuffer();
+                writer.writeSnapshot(snap);
+            });
         progress.finish();
 
         const double pixels = double(film.width()) * double(film.height());
@@ -138,7 +156,7 @@ int main(int argc, char** argv) {
         const lt::file::StatTable run{"run",
                                       {"value"},
                                       {"samples", "spp", "passes", "wall_seconds", "cpu_seconds", "rays",
-                                       "nonfinite_dropped", "interrupted"},
+                                       "nonfinite_dropped", "interrupted", "snapshots", "snapshot_seconds"},
                                       {{double(stats.samples)},
                                        {samplesPerPixel},
                                        {double(stats.passes)},
@@ -146,7 +164,9 @@ int main(int argc, char** argv) {
                                        {stats.cpuSeconds},
                                        {double(stats.rays)},
                                        {double(stats.health.nonFinite)},
-                                       {stats.interrupted ? 1.0 : 0.0}}};
+                                       {stats.interrupted ? 1.0 : 0.0},
+                                       {double(stats.snapshots)},
+                                       {stats.snapshotSeconds}}};
         writer.writeStats(run);
         writer.finish();
 

@@ -108,7 +108,8 @@ bool visible(const Scene& scene, const PathVertex& a, const PathVertex& b) {
     return unoccluded(scene, ea, b.isOnSurface() ? b.si.endpoint() : RayEndpoint{b.si.p, {}, 0});
 }
 
-PathVertex directLightVertex(const Scene& scene, size_t index, const DirectSample& ds) {
+PathVertex lightVertexAt(const Scene& scene, size_t index, const Vec3& p, const Vec3& nOrTravel, uint32_t prim,
+                         const Vec2& coords) {
     const Emitter& e = *scene.emitters[index];
     PathVertex v;
     v.type = VertexType::Light;
@@ -116,12 +117,18 @@ PathVertex directLightVertex(const Scene& scene, size_t index, const DirectSampl
     v.emitterIndex = int(index);
     v.infinite = e.isInfinite();
     if (e.shape >= 0) {
-        v.si = scene.shapes[size_t(e.shape)].surfaceAt(ds.prim, ds.coords);
+        v.si = scene.shapes[size_t(e.shape)].surfaceAt(prim, coords);
         v.si.shape = e.shape;
     } else {
-        v.si.p = ds.p;
-        v.si.ng = v.infinite ? -ds.wi : ds.n;
+        v.si.p = p;
+        v.si.ng = nOrTravel;
     }
+    return v;
+}
+
+PathVertex directLightVertex(const Scene& scene, size_t index, const DirectSample& ds) {
+    const bool infinite = scene.emitters[index]->isInfinite();
+    PathVertex v = lightVertexAt(scene, index, ds.p, infinite ? -ds.wi : ds.n, ds.prim, ds.coords);
     v.beta = ds.value / (ds.pdf * scene.emitterSelection.pmf(index));
     return v;
 }

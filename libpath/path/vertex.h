@@ -69,6 +69,12 @@ struct PathVertex {
 [[nodiscard]] bool unoccluded(const Scene& scene, const RayEndpoint& a, const RayEndpoint& b);
 [[nodiscard]] bool escapes(const Scene& scene, const RayEndpoint& from, const Vec3& dir);
 
+// A light vertex at a point emitter `index` produced: on an area emitter the full surface geometry at
+// (prim, coords); otherwise the point p with normal n (zero for point-like emitters), or, for an
+// environment or directional emitter, the direction the light travels in place of the normal.
+[[nodiscard]] PathVertex lightVertexAt(const Scene& scene, size_t index, const Vec3& p, const Vec3& nOrTravel,
+                                       uint32_t prim, const Vec2& coords);
+
 // The light vertex of a direct (next-event) sample: the point sampleDirect chose on emitter `index`,
 // with its throughput value / (pdf * selection probability) and its emission-origin density. BDPT's
 // s = 1 strategy and the path tracer's next-event estimation both start from it.

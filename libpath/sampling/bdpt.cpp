@@ -139,18 +139,7 @@ void Bdpt::lightSubpath(SampleGenerator& sampler, std::vector<PathVertex>& path)
     const EmissionSample es = e.sampleEmission(uPos, uDir);
     if (!(es.pdfPos > 0) || !(es.pdfDir > 0) || es.value.isBlack()) return;
 
-    PathVertex v;
-    v.type = VertexType::Light;
-    v.emitter = &e;
-    v.emitterIndex = int(index);
-    v.infinite = e.isInfinite();
-    if (e.shape >= 0) {
-        v.si = scene_.shapes[size_t(e.shape)].surfaceAt(es.prim, es.coords);
-        v.si.shape = e.shape;
-    } else {
-        v.si.p = es.p;
-        v.si.ng = v.infinite ? es.d : es.n;
-    }
+    PathVertex v = lightVertexAt(scene_, index, es.p, e.isInfinite() ? es.d : es.n, es.prim, es.coords);
     v.beta = es.value;
     v.pdfFwd = pmf * es.pdfPos;
     path.push_back(v);

@@ -37,7 +37,7 @@ double cpuSeconds() { return double(std::clock()) / CLOCKS_PER_SEC; }
 } // namespace
 
 RenderStats render(const Scene& scene, const RenderSettings& settings, SampleFilm& film, const ProgressCallback& progress,
-                   const std::atomic<bool>* stop, SeedReservoir* seeds) {
+                   const std::atomic<bool>* stop, SeedReservoir* seeds, const SnapshotCallback& snapshot) {
     if (settings.spp < 0 || (settings.spp == 0 && !(settings.timeLimit > 0)))
         throw Error("give a positive sample count or a time limit");
     const Bdpt bdpt(scene, settings.bdpt);
@@ -53,6 +53,7 @@ RenderStats render(const Scene& scene, const RenderSettings& settings, SampleFil
     auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
 
     RenderStats stats;
+    SnapshotSchedule schedule = settings.snapshots;
     const uint64_t raysBefore = EmbreeAccel::rayCount();
     uint64_t nextItem = 0;
     bool timeUp = false;
@@ -132,18 +133,25 @@ RenderStats render(const Scene& scene, const RenderSettings& settings, SampleFil
                         for (const auto& c : item->candidates) seeds->add(c);
                     stats.samples += item->result.rect.area();
                     stats.health.nonFinite += item->health.nonFinite;
-                    if ((item->index + 1) % tilesPerPass == 0) ++stats.passes;
-                    if (progress) {
-                        RenderProgress p;
-                        p.samples = stats.samples;
-                        p.totalSamples = settings.timeLimit > 0 ? 0 : maxPasses * window.area();
-                        p.wallSeconds = elapsed();
-                        p.passesDone = stats.passes;
-                        progress(p);
+                    const bool passEnd = (item->index + 1) % tilesPerPass == 0;
+                    if (passEnd) ++stats.passes;
+                    RenderProgress p;
+                    p.samples = stats.samples;
+                    p.totalSamples = settings.timeLimit > 0 ? 0 : maxPasses * window.area();
+                    p.wallSeconds = elapsed() - stats.snapshotSeconds;
+                    p.cpuSeconds = cpuSeconds() - cpuStart;
+                    p.snapshotSeconds = stats.snapshotSeconds;
+                    p.passesDone = stats.passes;
+                    if (passEnd && snapshot && schedule.due(p.wallSeconds, double(stats.passes))) {
+                        const double t0 = elapsed();
+                        snapshot(p, film);
+                        ++stats.snapshots;
+                        stats.snapshotSeconds += elapsed() - t0;
                     }
+                    if (progress) progress(p);
                 }));
     });
-    stats.wallSeconds = elapsed();
+    stats.wallSeconds = elapsed() - stats.snapshotSeconds;
     stats.cpuSeconds = cpuSeconds() - cpuStart;
     stats.rays = EmbreeAccel::rayCount() - raysBefore;
     stats.interrupted = stop && stop->load() && !timeUp && uint64_t(stats.passes) < maxPasses;

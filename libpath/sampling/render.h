@@ -9,6 +9,7 @@
 #include <functional>
 
 #include "image/film.h"
+#include "image/snapshot_schedule.h"
 #include "sampling/bdpt.h"
 #include "sampling/seed_reservoir.h"
 
@@ -24,12 +25,15 @@ struct RenderSettings {
     int threads = 0;               // 0 = all cores
     uint64_t seed = 0;
     int tileSize = 32;
+    SnapshotSchedule snapshots;    // checked at the end of every complete pass
 };
 
 struct RenderProgress {
     uint64_t samples = 0;          // camera samples merged so far
     uint64_t totalSamples = 0;     // expected total (0 when only a time limit bounds the run)
-    double wallSeconds = 0;
+    double wallSeconds = 0;        // rendering time: wall clock minus the time spent writing snapshots
+    double cpuSeconds = 0;
+    double snapshotSeconds = 0;    // wall time spent in the snapshot callback so far
     int passesDone = 0;            // complete passes (one sample per pixel each)
 };
 
@@ -40,13 +44,19 @@ struct RenderStats {
     double wallSeconds = 0, cpuSeconds = 0;
     SampleHealth health;
     bool interrupted = false;
+    int snapshots = 0;
+    double snapshotSeconds = 0;
 };
 
 using ProgressCallback = std::function<void(const RenderProgress&)>;
+// Called at pass boundaries when settings.snapshots says so; its own duration is measured and kept out
+// of the times it and later snapshots report.
+using SnapshotCallback = std::function<void(const RenderProgress&, const SampleFilm&)>;
 
 // With `seeds`, every BDPT strategy path becomes a candidate seed path (path/path_record.h) offered to the
 // reservoir in work-item order, so the kept draws, too, do not depend on the thread count.
 RenderStats render(const Scene& scene, const RenderSettings& settings, SampleFilm& film, const ProgressCallback& progress,
-                   const std::atomic<bool>* stop, SeedReservoir* seeds = nullptr);
+                   const std::atomic<bool>* stop, SeedReservoir* seeds = nullptr,
+                   const SnapshotCallback& snapshot = {});
 
 } // namespace lt

@@ -16,11 +16,11 @@ constexpr size_t UnboundedVertices = 1024;
 
 double remap0(double x) { return x != 0 ? x : 1.0; }
 
-// Restores a vertex to its saved state at scope exit (the MIS weight edits densities in place, as in
-// pbrt-v3's ScopedAssignment, to avoid copying subpaths per strategy).
+// Restores what the MIS weight edits in place at scope exit (pbrt-v3's ScopedAssignment, to avoid
+// copying subpaths per strategy): a whole vertex where the connection replaced a subpath's first one,
+// only the reverse density and delta flag of the vertices around the connection.
 class SavedVertex {
 public:
-    SavedVertex() = default;
     void save(PathVertex* v) {
         if (v) {
             target_ = v;
@@ -34,6 +34,28 @@ public:
 private:
     PathVertex* target_ = nullptr;
     PathVertex saved_;
+};
+
+class SavedDensity {
+public:
+    void save(PathVertex* v) {
+        if (v) {
+            target_ = v;
+            pdfRev_ = v->pdfRev;
+            delta_ = v->delta;
+        }
+    }
+    ~SavedDensity() {
+        if (target_) {
+            target_->pdfRev = pdfRev_;
+            target_->delta = delta_;
+        }
+    }
+
+private:
+    PathVertex* target_ = nullptr;
+    double pdfRev_ = 0;
+    bool delta_ = false;
 };
 
 } // namespace
@@ -238,7 +260,7 @@ double Bdpt::misWeight(std::vector<PathVertex>& light, std::vector<PathVertex>& 
     PathVertex* ptMinus = t > 1 ? &camera[size_t(t) - 2] : nullptr;
     // Saved after the replacements above and so restored before them (reverse order of destruction):
     // the subpaths end exactly as they were.
-    SavedVertex a, b, c, d;
+    SavedDensity a, b, c, d;
     a.save(pt);
     b.save(qs);
     c.save(ptMinus);

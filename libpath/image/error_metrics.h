@@ -32,14 +32,14 @@ struct Crop {
 
 struct ErrorOptions {
     ErrorMetric metric = ErrorMetric::RelMSE;
-    double trim = 0;           // fraction in [0, 1) of the pixels (of the crop) with the largest error to drop
-    std::optional<Crop> crop;  // the whole image when empty
+    double trim = 0;          // fraction in [0, 1) of the pixels (of the crop) with the largest error to drop
+    std::optional<Crop> crop; // the whole image when empty
 };
 
 struct ImageError {
-    double value = 0;    // the metric over the pixels kept
-    size_t pixels = 0;   // pixels the value averages (crop minus trimmed)
-    size_t trimmed = 0;  // pixels dropped by ErrorOptions::trim: floor(trim * pixels of the crop)
+    double value = 0;   // the metric over the pixels kept
+    size_t pixels = 0;  // pixels the value averages (crop minus trimmed)
+    size_t trimmed = 0; // pixels dropped by ErrorOptions::trim: floor(trim * pixels of the crop)
 };
 
 // A reference image checked once (R, G, B present, every R, G, B value finite) against which any number
@@ -79,16 +79,16 @@ struct ErrorRow {
     std::string label;                 // "SNAP 2 of 5", "BUFR" (the final buffer) or "EXR"
     std::optional<double> wallSeconds; // when the estimate was made; unknown for an EXR
     std::optional<double> cpuSeconds;
-    std::optional<uint64_t> samples;   // samples (or mutations) so far
+    std::optional<uint64_t> samples; // samples (or mutations) so far
     ImageError error;
     // 1 / (error x wall time) ([GDPR] Sec. 5, after Veach 1998); unknown without a time.
     [[nodiscard]] std::optional<double> efficiency() const;
 };
 
 struct ErrorCurve {
-    std::string name;                 // the input as errors name it
-    std::vector<ErrorRow> rows;       // snapshots in file order, then the final image
-    std::vector<double> finalErrors;  // per-pixel terms of the final image (ErrorReference::pixelErrors)
+    std::string name;                // the input as errors name it
+    std::vector<ErrorRow> rows;      // snapshots in file order, then the final image
+    std::vector<double> finalErrors; // per-pixel terms of the final image (ErrorReference::pixelErrors)
     uint32_t width = 0, height = 0;
 };
 

@@ -1,0 +1,23 @@
+#!/usr/bin/env bash
+# pipelines/compare.sh and reference.sh end to end on a tiny scene: images, error table, plot, figure;
+# a method without its tool is refused by name.
+#   compare_pipeline.sh BIN_DIR SOURCE_DIR
+set -u
+bin="$1"; src="$2"
+fail=0
+check() { if ! eval "$2"; then echo "FAILED: $1"; fail=1; else echo "ok: $1"; fi; }
+magic() { head -c "$2" "$1" | od -An -tx1 | tr -d ' \n'; }
+tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
+export BUILD_DIR="$(dirname "$bin")"
+scene="$src/tests/cli/tiny_box.xml"
+
+bash "$src/pipelines/reference.sh" "$scene" --time 1 -o "$tmp/ref.exr" > /dev/null 2>&1
+check "reference.sh writes an EXR" '[ "$(magic "$tmp/ref.exr" 4)" = "762f3101" ]'
+bash "$src/pipelines/compare.sh" "$scene" --time 1 --methods "pt bdpt" --ref "$tmp/ref.exr" --crop 2,2,8,8 --out "$tmp/cmp" > "$tmp/log" 2>&1; code=$?
+check "compare.sh: exit 0" '[ $code -eq 0 ]'
+check "compare.sh: images of both methods" '[ -s "$tmp/cmp/pt.exr" ] && [ -s "$tmp/cmp/bdpt.png" ]'
+check "compare.sh: error table and CSV" 'grep -q relMSE "$tmp/cmp/error.txt" && [ "$(grep -c "BUFR" "$tmp/cmp/error.csv")" -eq 2 ]'
+check "compare.sh: plot and figure are PNGs" '[ "$(magic "$tmp/cmp/error.png" 4)" = "89504e47" ] && [ "$(magic "$tmp/cmp/figure.png" 4)" = "89504e47" ]'
+out=$(bash "$src/pipelines/compare.sh" "$scene" --time 1 --methods "pt memlt" --out "$tmp/cmp2" 2>&1); code=$?
+check "compare.sh: a method without its tool is refused by name, before rendering" '[ $code -ne 0 ] && echo "$out" | grep -q "memlt" && [ ! -e "$tmp/cmp2/pt.lts" ]'
+exit $fail

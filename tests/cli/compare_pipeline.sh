@@ -20,4 +20,9 @@ check "compare.sh: error table and CSV" 'grep -q relMSE "$tmp/cmp/error.txt" && 
 check "compare.sh: plot and figure are PNGs" '[ "$(magic "$tmp/cmp/error.png" 4)" = "89504e47" ] && [ "$(magic "$tmp/cmp/figure.png" 4)" = "89504e47" ]'
 out=$(bash "$src/pipelines/compare.sh" "$scene" --time 1 --methods "pt memlt" --out "$tmp/cmp2" 2>&1); code=$?
 check "compare.sh: a method without its tool is refused by name, before rendering" '[ $code -ne 0 ] && echo "$out" | grep -q "memlt" && [ ! -e "$tmp/cmp2/pt.lts" ]'
+bash "$src/pipelines/sweep.sh" "$scene" --ref "$tmp/ref.exr" --option --max-depth --values 1,3 --out "$tmp/sw" -- --spp 2 > "$tmp/swlog" 2>&1; code=$?
+check "sweep.sh: exit 0, a row per value" '[ $code -eq 0 ] && grep -q "max-depth=1.lts" "$tmp/sw/sweep.txt" && grep -q "max-depth=3.lts" "$tmp/sw/sweep.txt"'
+# maxDepth 1 sees only the light: the rest of the box is black, so its error must be the larger one.
+e1=$(awk '$1 ~ /max-depth=1/ { print $5 }' "$tmp/sw/sweep.txt"); e3=$(awk '$1 ~ /max-depth=3/ { print $5 }' "$tmp/sw/sweep.txt")
+check "sweep.sh: depth 1 misses the indirect light ($e1 vs $e3)" '/usr/bin/python3 -c "import sys; sys.exit(0 if float(\"$e1\") > float(\"$e3\") else 1)"'
 exit $fail

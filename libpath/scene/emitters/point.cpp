@@ -3,6 +3,7 @@
 #include "math/error.h"
 #include "math/warp.h"
 #include "scene/emitter.h"
+#include "scene/emitters/point_source.h"
 
 namespace lt {
 
@@ -18,14 +19,8 @@ public:
     // The only point there is; arriving radiance carries the inverse-square law (pbrt-v3 PointLight).
     [[nodiscard]] DirectSample sampleDirect(const Vec3& ref, const Vec2& u) const override {
         (void)u;
-        DirectSample ds;
-        const Vec3 v = position_ - ref;
-        ds.dist = length(v);
-        if (!(ds.dist > 0)) return {};
-        ds.p = position_;
-        ds.wi = v / ds.dist;
-        ds.value = intensity_ / (ds.dist * ds.dist);
-        ds.pdf = 1;
+        DirectSample ds = pointSourceSample(position_, ref);
+        if (ds.pdf > 0) ds.value = intensity_ / (ds.dist * ds.dist);
         return ds;
     }
 

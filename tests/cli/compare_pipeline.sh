@@ -2,11 +2,7 @@
 # pipelines/compare.sh and reference.sh end to end on a tiny scene: images, error table, plot, figure;
 # a method without its tool is refused by name.
 #   compare_pipeline.sh BIN_DIR SOURCE_DIR
-set -u
-bin="$1"; src="$2"
-fail=0
-check() { if ! eval "$2"; then echo "FAILED: $1"; fail=1; else echo "ok: $1"; fi; }
-magic() { head -c "$2" "$1" | od -An -tx1 | tr -d ' \n'; }
+source "$(dirname "${BASH_SOURCE[0]}")/lib.bash" "$@"
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 export BUILD_DIR="$(dirname "$bin")"
 scene="$src/tests/cli/tiny_box.xml"

@@ -3,11 +3,7 @@
 # table, the CSV, the JSON, the plot and the error map; one error line and a non-zero exit for a
 # reference of another size.
 #   lt_error.sh BIN_DIR SOURCE_DIR
-set -u
-bin="$1"; src="$2"
-fail=0
-check() { if ! eval "$2"; then echo "FAILED: $1"; fail=1; else echo "ok: $1"; fi; }
-magic() { head -c "$2" "$1" | od -An -tx1 | tr -d ' \n'; }
+source "$(dirname "${BASH_SOURCE[0]}")/lib.bash" "$@"
 
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 cd "$tmp" || exit 1

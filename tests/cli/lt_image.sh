@@ -3,11 +3,7 @@
 # weight (the merged image's channel means are the weighted means of the inputs'), EXR input, and one
 # error line with a non-zero exit for each kind of bad input.
 #   lt_image.sh BIN_DIR SOURCE_DIR
-set -u
-bin="$1"; src="$2"
-fail=0
-check() { if ! eval "$2"; then echo "FAILED: $1"; fail=1; else echo "ok: $1"; fi; }
-magic() { head -c "$2" "$1" | od -An -tx1 | tr -d ' \n'; }
+source "$(dirname "${BASH_SOURCE[0]}")/lib.bash" "$@"
 
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 scene="$src/tests/cli/tiny_box.xml"

@@ -2,10 +2,7 @@
 # lt-inspect from the command line: every shared and shipped scene is described (text and valid JSON);
 # bad input gives exactly one error line and a non-zero exit; --help works.
 #   lt_inspect.sh BIN_DIR SOURCE_DIR
-set -u
-bin="$1"; src="$2"
-fail=0
-check() { if ! eval "$2"; then echo "FAILED: $1"; fail=1; else echo "ok: $1"; fi; }
+source "$(dirname "${BASH_SOURCE[0]}")/lib.bash" "$@"
 
 scenes=("$src"/../shared/scenes/*/scene.xml "$src"/scenes/*/scene.xml)
 check "six scenes to describe" '[ ${#scenes[@]} -ge 6 ]'

@@ -3,10 +3,7 @@
 # that agree with the file), --paths vertex tables, --obj polylines, --histogram bars, stdin, and one
 # error line with a non-zero exit for a truncated file or an option that does not fit the file.
 #   lt_inspect_files.sh BIN_DIR SOURCE_DIR
-set -u
-bin="$1"; src="$2"
-fail=0
-check() { if ! eval "$2"; then echo "FAILED: $1"; fail=1; else echo "ok: $1"; fi; }
+source "$(dirname "${BASH_SOURCE[0]}")/lib.bash" "$@"
 
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 "$bin/lt-seed" "$src/tests/cli/tiny_box.xml" --spp 2 --seed 1 -o "$tmp/a.lts" --paths "$tmp/a.ltp" --max-paths 50 -q

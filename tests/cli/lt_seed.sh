@@ -2,10 +2,7 @@
 # lt-seed from the command line: output files are complete and valid, bit-identical data whatever the
 # thread count, Ctrl-C keeps the work done, stdout streaming, and bad input gives one error line.
 #   lt_seed.sh BIN_DIR SOURCE_DIR
-set -u
-bin="$1"; src="$2"
-fail=0
-check() { if ! eval "$2"; then echo "FAILED: $1"; fail=1; else echo "ok: $1"; fi; }
+source "$(dirname "${BASH_SOURCE[0]}")/lib.bash" "$@"
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 
 cat > "$tmp/box.xml" <<'XML'

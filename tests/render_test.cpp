@@ -50,25 +50,6 @@ std::vector<float> renderImage(const Scene& scene, PixelMethod method, int spp, 
     return film.develop();
 }
 
-// A closed box whose walls all emit Le = 1 and reflect diffusely with albedo rho, seen from inside;
-// `scale` shrinks the whole scene (the camera's near clip with it), `filter` picks the pixel filter.
-std::string furnaceBox(const test::TempDir& dir, double rho, int maxDepth, const std::string& filter = "box",
-                       double scale = 1) {
-    const std::string s = std::to_string(scale);
-    return dir.write("furnace.xml", R"(<scene version="0.5.0">
-  <integrator type="path"><integer name="maxDepth" value=")" + std::to_string(maxDepth) + R"("/></integrator>
-  <sensor type="perspective"><float name="fov" value="60"/><float name="nearClip" value=")" + std::to_string(1e-3 * scale) + R"("/>
-    <transform name="toWorld"><lookat origin=")" + std::to_string(0.1 * scale) + "," + std::to_string(0.2 * scale) + "," +
-                                std::to_string(0.3 * scale) + R"(" target="1,0.5,-2" up="0,1,0"/></transform>
-    <film type="hdrfilm"><integer name="width" value="24"/><integer name="height" value="24"/><rfilter type=")" + filter + R"("/></film>
-  </sensor>
-  <shape type="cube"><boolean name="flipNormals" value="true"/><transform name="toWorld"><scale value=")" + s + R"("/></transform>
-    <bsdf type="diffuse"><rgb name="reflectance" value=")" + std::to_string(rho) + R"("/></bsdf>
-    <emitter type="area"><rgb name="radiance" value="1"/></emitter>
-  </shape>
-</scene>)");
-}
-
 } // namespace
 
 TEST_CASE("furnace box: every pixel is Le * sum of rho^k for k < maxDepth", "[render]") {
@@ -76,7 +57,7 @@ TEST_CASE("furnace box: every pixel is Le * sum of rho^k for k < maxDepth", "[re
     const double rho = 0.5;
     for (int depth : {1, 3, 6}) {
         CAPTURE(depth);
-        const auto scene = loadScene(furnaceBox(dir, rho, depth));
+        const auto scene = loadScene(test::furnaceBox(dir, rho, depth));
         double expected = 0;
         for (int k = 0; k < depth; ++k) expected += std::pow(rho, k);
         BdptSettings b;
@@ -99,7 +80,7 @@ TEST_CASE("furnace box: border pixels with wide filters at small scene scale", "
     test::TempDir dir;
     for (const std::string filter : {"tent", "gaussian"}) {
         CAPTURE(filter);
-        const auto scene = loadScene(furnaceBox(dir, 0.5, 3, filter, 0.01));
+        const auto scene = loadScene(test::furnaceBox(dir, 0.5, 3, filter, 0.01));
         BdptSettings b;
         b.maxDepth = 3;
         const auto img = renderImage(*scene, PixelMethod::Bdpt, 32, b);
@@ -117,7 +98,7 @@ TEST_CASE("furnace box: each BDPT strategy alone is unbiased for its path length
     test::TempDir dir;
     const double rho = 0.6;
     const int depth = 3;
-    const auto scene = loadScene(furnaceBox(dir, rho, depth));
+    const auto scene = loadScene(test::furnaceBox(dir, rho, depth));
     // Paths of exactly k edges carry Le rho^(k-1); a strategy (s, t) samples paths of s + t - 1 edges.
     for (int s = 0; s <= 3; ++s)
         for (int t = 1; t <= 4; ++t) {
@@ -162,7 +143,7 @@ TEST_CASE("a convex diffuse sphere under a uniform environment has radiance albe
 
 TEST_CASE("rendering is bit-identical whatever the thread count", "[render]") {
     test::TempDir dir;
-    const auto scene = loadScene(furnaceBox(dir, 0.5, 4));
+    const auto scene = loadScene(test::furnaceBox(dir, 0.5, 4));
     BdptSettings b;
     b.maxDepth = 4;
     const auto one = renderImage(*scene, PixelMethod::Bdpt, 4, b, 7, 1);

@@ -43,4 +43,29 @@ inline std::string shippedScene(const std::string& name) {
     return std::string(LT_SOURCE_DIR) + "/scenes/" + name + "/scene.xml";
 }
 
+// A closed box whose walls all emit Le = 1 and reflect diffusely with albedo rho, seen from inside;
+// `scale` shrinks the whole scene (the camera's near clip with it), `filter` picks the pixel filter.
+inline std::string furnaceBox(const TempDir& dir, double rho, int maxDepth, const std::string& filter = "box",
+                              double scale = 1) {
+    const std::string s = std::to_string(scale);
+    return dir.write("furnace.xml", R"(<scene version="0.5.0">
+  <integrator type="path"><integer name="maxDepth" value=")" +
+                                        std::to_string(maxDepth) + R"("/></integrator>
+  <sensor type="perspective"><float name="fov" value="60"/><float name="nearClip" value=")" +
+                                        std::to_string(1e-3 * scale) + R"("/>
+    <transform name="toWorld"><lookat origin=")" +
+                                        std::to_string(0.1 * scale) + "," + std::to_string(0.2 * scale) + "," +
+                                        std::to_string(0.3 * scale) + R"(" target="1,0.5,-2" up="0,1,0"/></transform>
+    <film type="hdrfilm"><integer name="width" value="24"/><integer name="height" value="24"/><rfilter type=")" +
+                                        filter + R"("/></film>
+  </sensor>
+  <shape type="cube"><boolean name="flipNormals" value="true"/><transform name="toWorld"><scale value=")" +
+                                        s + R"("/></transform>
+    <bsdf type="diffuse"><rgb name="reflectance" value=")" +
+                                        std::to_string(rho) + R"("/></bsdf>
+    <emitter type="area"><rgb name="radiance" value="1"/></emitter>
+  </shape>
+</scene>)");
+}
+
 } // namespace lt::test

@@ -8,20 +8,12 @@
 #include "common/info.h"
 #include "common/interrupt.h"
 #include "common/progress.h"
+#include "common/scene_options.h"
 #include "common/tool.h"
 #include "formats/ltfile.h"
 #include "sampling/render.h"
 
-namespace {
-
-std::string seconds(double s) {
-    std::ostringstream o;
-    o.precision(s < 10 ? 2 : 0);
-    o << std::fixed << s << " s";
-    return o.str();
-}
-
-} // namespace
+using lt::tool::formatSeconds;
 
 int main(int argc, char** argv) {
     CLI::App app{"lt-seed: render a Mitsuba scene with bidirectional path tracing (every (s,t) strategy, light "
@@ -69,17 +61,7 @@ int main(int argc, char** argv) {
         if (out == "-" && pathsOut == "-") throw lt::Error("only one of -o and --paths can be stdout");
         if (pathsOut.empty() && app.count("--max-paths")) throw lt::Error("--max-paths needs --paths");
         if (method == "pt" && !pathsOut.empty()) throw lt::Error("--paths needs --method bdpt (seed paths are BDPT strategies)");
-        auto scene = lt::loadScene(scenePath, lt::tool::parseDefines(defines));
-        if (!resolution.empty()) {
-            int w = 0, h = 0;
-            char x = 0, rest = 0;
-            std::istringstream in(resolution);
-            if (!(in >> w >> x >> h) || x != 'x' || w < 1 || h < 1 || (in >> rest))
-                throw lt::Error("--resolution expects WxH with positive integers, got '" + resolution + "'");
-            scene->camera = scene->camera.withResolution(w, h);
-        }
-        for (const auto& w : scene->warnings)
-            if (!quiet) std::cerr << "lt-seed: warning: " << w << '\n';
+        auto scene = lt::tool::loadSceneWithOptions("lt-seed", scenePath, defines, resolution, quiet);
 
         lt::RenderSettings rs;
         rs.method = method == "pt" ? lt::PixelMethod::PathTracing : lt::PixelMethod::Bdpt;
@@ -127,11 +109,11 @@ int main(int argc, char** argv) {
             *scene, rs, film,
             [&](const lt::RenderProgress& p) {
                 std::ostringstream d;
-                d << p.passesDone << " spp, " << seconds(p.wallSeconds);
+                d << p.passesDone << " spp, " << formatSeconds(p.wallSeconds);
                 double fraction = -1;
                 if (p.totalSamples > 0) {
                     fraction = double(p.samples) / double(p.totalSamples);
-                    if (fraction > 0.02) d << ", " << seconds(p.wallSeconds * (1 / fraction - 1)) << " left";
+                    if (fraction > 0.02) d << ", " << formatSeconds(p.wallSeconds * (1 / fraction - 1)) << " left";
                 } else if (timeLimit > 0) {
                     fraction = std::min(1.0, p.wallSeconds / timeLimit);
                 }
@@ -187,7 +169,7 @@ int main(int argc, char** argv) {
         }
         if (!quiet) {
             std::cerr << "lt-seed: " << (stats.interrupted ? "interrupted after " : "") << samplesPerPixel << " spp in "
-                      << seconds(stats.wallSeconds) << " (" << std::setprecision(3) << double(stats.samples) / stats.wallSeconds / 1e3
+                      << formatSeconds(stats.wallSeconds) << " (" << std::setprecision(3) << double(stats.samples) / stats.wallSeconds / 1e3
                       << "k samples/s, " << double(stats.rays) / stats.wallSeconds / 1e6 << "M rays/s) -> "
                       << writer.name();
             if (stats.health.nonFinite) std::cerr << " (" << stats.health.nonFinite << " non-finite samples dropped)";

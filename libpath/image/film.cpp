@@ -61,7 +61,9 @@ file::Buffer SampleFilm::toBuffer() const {
     for (size_t i = 0; i < window_.area(); ++i)
         for (size_t c = 0; c < 3; ++c) b.planes[c][i] = rgb[3 * i + c];
     b.sampleCounts = count_;
-    b.weight = double(cameraSamples_);
+    // Buffers of independent runs average by their work: camera samples, or for a splat-only film (the
+    // Markov chains) the number of mutations.
+    b.weight = double(cameraSamples_ > 0 ? cameraSamples_ : lightPaths_);
     b.combine = "weighted-mean";
     return b;
 }

@@ -7,6 +7,15 @@
 
 namespace lt {
 
+// SplitMix64's finalizer (Steele et al. 2014): decorrelates consecutive integers (seed, sample index,
+// chain index) into PCG32 initial states.
+[[nodiscard]] inline uint64_t mixBits(uint64_t x) {
+    x += 0x9e3779b97f4a7c15ULL;
+    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
+    return x ^ (x >> 31);
+}
+
 class Pcg32 {
 public:
     Pcg32() { seed(0x853c49e6748fea9bULL, 0xda3e39cb94b95bdbULL); }

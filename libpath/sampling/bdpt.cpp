@@ -1,5 +1,6 @@
 #include "sampling/bdpt.h"
 
+#include <algorithm>
 #include <utility>
 
 #include "bsdf/shading_correction.h"
@@ -133,7 +134,9 @@ void Bdpt::randomWalk(Ray ray, Spectrum beta, double pdfDir, SampleGenerator& sa
     }
 }
 
-void Bdpt::cameraSubpath(const Vec2& raster, SampleGenerator& sampler, std::vector<PathVertex>& path) const {
+void Bdpt::cameraSubpath(const Vec2& raster, SampleGenerator& sampler, std::vector<PathVertex>& path,
+                         size_t maxVertices) const {
+    const size_t limit = maxVertices > 0 ? std::min(maxVertices, maxCameraVertices_) : maxCameraVertices_;
     path.clear();
     sampler.startStream(SampleGenerator::CameraStream);
     const Ray ray = scene_.camera.generateRay(raster);
@@ -146,13 +149,14 @@ void Bdpt::cameraSubpath(const Vec2& raster, SampleGenerator& sampler, std::vect
     path.push_back(cam);
     double pdfPos = 0, pdfDir = 0;
     scene_.camera.pdfEmission(ray.d, pdfPos, pdfDir);
-    randomWalk(ray, Spectrum(1.0), pdfDir, sampler, Transport::Radiance, maxCameraVertices_ - 1, path);
+    randomWalk(ray, Spectrum(1.0), pdfDir, sampler, Transport::Radiance, limit - 1, path);
 }
 
-void Bdpt::lightSubpath(SampleGenerator& sampler, std::vector<PathVertex>& path) const {
+void Bdpt::lightSubpath(SampleGenerator& sampler, std::vector<PathVertex>& path, size_t maxVertices) const {
     path.clear();
     sampler.startStream(SampleGenerator::LightStream);
-    if (scene_.emitterSelection.empty() || maxLightVertices_ == 0) return;
+    const size_t limit = maxVertices > 0 ? std::min(maxVertices, maxLightVertices_) : maxLightVertices_;
+    if (scene_.emitterSelection.empty() || limit == 0) return;
     const double uLight = sampler.next1D();
     const Vec2 uPos = sampler.next2D(), uDir = sampler.next2D();
     const size_t index = scene_.emitterSelection.sample(uLight);
@@ -168,7 +172,7 @@ void Bdpt::lightSubpath(SampleGenerator& sampler, std::vector<PathVertex>& path)
     const double cosine = lengthSquared(es.n) > 0 && !v.infinite ? std::abs(dot(es.n, es.d)) : 1.0;
     const Spectrum beta = es.value * (cosine / (pmf * es.pdfPos * es.pdfDir));
     const Ray ray = v.isOnSurface() ? spawnRay(v.si.endpoint(), es.d) : Ray{es.p, es.d};
-    randomWalk(ray, beta, es.pdfDir, sampler, Transport::Importance, maxLightVertices_ - 1, path);
+    randomWalk(ray, beta, es.pdfDir, sampler, Transport::Importance, limit - 1, path);
 
     // An environment vertex has no area: the next vertex's density is the disk's position density
     // (parallel rays), and the vertex's own is the density of its direction (pbrt-v3 16.3.2).
@@ -289,6 +293,14 @@ double Bdpt::misWeight(std::vector<PathVertex>& light, std::vector<PathVertex>& 
         if (!light[size_t(i)].delta && !deltaBefore) sum += misHeuristic(settings_.mis, r);
     }
     return 1.0 / (1.0 + sum);
+}
+
+Spectrum Bdpt::strategy(std::vector<PathVertex>& light, std::vector<PathVertex>& camera, int s, int t,
+                        SampleGenerator& sampler, Vec2& raster) const {
+    PathVertex sampled;
+    double weight = 0;
+    const Spectrum c = connect(light, camera, s, t, sampler, raster, sampled, weight);
+    return c.isBlack() ? c : c * weight;
 }
 
 Spectrum Bdpt::sample(const Vec2& raster, SampleGenerator& sampler, std::vector<Splat>& splats, SampleHealth& health,

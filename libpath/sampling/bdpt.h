@@ -64,9 +64,17 @@ public:
     [[nodiscard]] Spectrum sample(const Vec2& raster, SampleGenerator& sampler, std::vector<Splat>& splats,
                                   SampleHealth& health, const StrategyCallback* onPath = nullptr) const;
 
-    // The subpath generators, exposed for tests and for the Markov chains that reuse them.
-    void cameraSubpath(const Vec2& raster, SampleGenerator& sampler, std::vector<PathVertex>& path) const;
-    void lightSubpath(SampleGenerator& sampler, std::vector<PathVertex>& path) const;
+    // The subpath generators, exposed for tests and for the Markov chains that reuse them. `maxVertices`
+    // bounds the subpath below the limit maxDepth sets (0: that limit); multiplexed MLT asks for exactly
+    // the s or t vertices of its technique.
+    void cameraSubpath(const Vec2& raster, SampleGenerator& sampler, std::vector<PathVertex>& path,
+                       size_t maxVertices = 0) const;
+    void lightSubpath(SampleGenerator& sampler, std::vector<PathVertex>& path, size_t maxVertices = 0) const;
+
+    // One strategy (s, t) on given subpaths (at least s light and t camera vertices): its MIS-weighted
+    // contribution, zero when it does not connect. For t = 1 the contribution is a splat at `raster`.
+    [[nodiscard]] Spectrum strategy(std::vector<PathVertex>& light, std::vector<PathVertex>& camera, int s, int t,
+                                    SampleGenerator& sampler, Vec2& raster) const;
 
 private:
     // Continue a subpath from its last vertex along `ray`, whose direction had solid-angle density pdfDir.

@@ -15,14 +15,6 @@ namespace lt {
 
 namespace {
 
-// SplitMix64 (Steele et al. 2014): decorrelates (seed, sample index) into a PCG32 initial state.
-uint64_t mix(uint64_t x) {
-    x += 0x9e3779b97f4a7c15ULL;
-    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
-    return x ^ (x >> 31);
-}
-
 struct WorkItem {
     uint64_t index = 0;
     int pass = 0;
@@ -107,7 +99,7 @@ RenderStats render(const Scene& scene, const RenderSettings& settings, SampleFil
                                 pixel = uint64_t(y) * uint64_t(scene.camera.film().width) + uint64_t(x);
                                 // Initial state and stream both depend on the pixel: PCG streams that
                                 // differ only in their increment are correlated (Vigna 2018).
-                                IndependentSampler sampler(mix(mix(settings.seed ^ mix(uint64_t(item->pass))) + pixel), pixel);
+                                IndependentSampler sampler(mixBits(mixBits(settings.seed ^ mixBits(uint64_t(item->pass))) + pixel), pixel);
                                 const Vec2 raster = film.sampleRaster(x, y, sampler.next2D());
                                 Spectrum L;
                                 if (settings.method == PixelMethod::Bdpt) {

@@ -20,23 +20,6 @@ cat > "$tmp/box.xml" <<'XML'
 </scene>
 XML
 
-# Chunk payloads of a file as hex, except INFO and the STAT "run" table (they record the command line,
-# the start time and how long the run took).
-chunks() { /usr/bin/python3 - "$1" <<'PY'
-import struct, sys
-data = open(sys.argv[1], 'rb').read()
-assert data[:4] == b'LTF\x01', 'bad magic'
-pos, out = 12, []
-while pos < len(data):
-    tag = data[pos:pos+4].decode(); n, = struct.unpack_from('<Q', data, pos + 4)
-    payload = data[pos+12:pos+12+n]
-    if tag != 'INFO' and not (tag == 'STAT' and payload[:7] == struct.pack('<I', 3) + b'run'):
-        out.append(tag + ':' + payload.hex())
-    pos += 12 + n + 4
-print('\n'.join(out))
-PY
-}
-
 "$bin/lt-seed" "$tmp/box.xml" -o "$tmp/a.lts" --paths "$tmp/a.ltp" --max-paths 50 --threads 1 --seed 3 -q; code=$?
 check "renders: exit 0" '[ $code -eq 0 ]'
 check "buffer file ends with END!" '[ "$(tail -c 16 "$tmp/a.lts" | head -c 4)" = "END!" ]'

@@ -1,0 +1,67 @@
+// The Metropolis-Hastings step shared by every chain (ALGORITHMS.md 1.4), with expected-value
+// ("Rao-Blackwellized") accumulation (SURVEY 2.6): each iteration credits the proposal with its
+// acceptance probability a and the current state with 1 - a, whatever the random draw decides. The
+// current state's credit is accumulated and splatted when the chain leaves it, or when the caller
+// flushes (end of a round, a snapshot, the end of the run), so no credit is ever lost.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "image/film.h"
+#include "mcmc/image_contribution.h"
+
+namespace lt {
+
+// The image estimator <I_j> = (b / N) sum_i h_j(x_i) f(x_i) / f*(x_i) (SURVEY Eq. 16): a state with
+// credit w adds w f / f* at each of its contributions' raster positions. The film divides by the number
+// of mutations (its "light paths") and multiplies by the pixel count, so `scale` = b / pixels.
+class ChainImage {
+public:
+    explicit ChainImage(double scale) : scale_(scale) {}
+    void add(const std::vector<ImageContribution>& c, double target, double credit) {
+        if (!(credit > 0) || !(target > 0)) return;
+        const double w = scale_ * credit / target;
+        for (const auto& k : c)
+            splats_.push_back({k.raster, k.value * w});
+    }
+    std::vector<TileResult::Splat>& splats() { return splats_; }
+
+private:
+    double scale_;
+    std::vector<TileResult::Splat> splats_;
+};
+
+// The acceptance probability min(1, f*(y) T(y -> x) / (f*(x) T(x -> y))), written with the mutations'
+// Q = T / f* (ALGORITHMS.md 1.4): a = min(1, Q(y -> x) / Q(x -> y)). Zero when anything is not finite
+// or the forward density vanishes: such a proposal is rejected, never accepted by accident.
+[[nodiscard]] inline double acceptance(double forwardQ, double reverseQ) {
+    if (!(forwardQ > 0) || !std::isfinite(forwardQ) || !(reverseQ >= 0) || !std::isfinite(reverseQ)) return 0;
+    return std::min(1.0, reverseQ / forwardQ);
+}
+
+// A chain's current state as far as the image is concerned.
+struct ChainPosition {
+    std::vector<ImageContribution> contributions;
+    double target = 0;
+    double credit = 0; // accumulated 1 - a of the proposals that did not leave it
+
+    // Credit a proposal (a in [0, 1]) and move to it when `move`.
+    void step(std::vector<ImageContribution>& proposed, double proposedTarget, double a, bool move, ChainImage& image) {
+        image.add(proposed, proposedTarget, a);
+        credit += 1 - a;
+        if (move) {
+            image.add(contributions, target, credit);
+            contributions.swap(proposed);
+            target = proposedTarget;
+            credit = 0;
+        }
+    }
+    void flush(ChainImage& image) {
+        image.add(contributions, target, credit);
+        credit = 0;
+    }
+};
+
+} // namespace lt

@@ -1,0 +1,81 @@
+#include "mcmc/mutation_statistics.h"
+
+#include <cstdio>
+
+namespace lt {
+
+const char* rejectCauseName(RejectCause c) {
+    switch (c) {
+    case RejectCause::ZeroContribution:
+        return "zero_contribution";
+    case RejectCause::Occluded:
+        return "occluded";
+    case RejectCause::LeftImage:
+        return "left_image";
+    case RejectCause::ConfigurationChanged:
+        return "configuration_changed";
+    case RejectCause::NonFinite:
+        return "nonfinite";
+    case RejectCause::Count:
+        break;
+    }
+    return "?";
+}
+
+void StrategyCounters::merge(const StrategyCounters& o) {
+    proposed += o.proposed;
+    accepted += o.accepted;
+    acceptance += o.acceptance;
+    for (size_t i = 0; i < rejected.size(); ++i)
+        rejected[i] += o.rejected[i];
+    seconds += o.seconds;
+}
+
+MutationStatistics::MutationStatistics(std::vector<std::string> strategies)
+    : names_(std::move(strategies)), counters_(names_.size()) {}
+
+void MutationStatistics::merge(const MutationStatistics& o) {
+    for (size_t i = 0; i < counters_.size() && i < o.counters_.size(); ++i)
+        counters_[i].merge(o.counters_[i]);
+}
+
+file::StatTable MutationStatistics::table(const std::string& name) const {
+    file::StatTable t;
+    t.name = name;
+    t.columns = {"proposed", "accepted", "acceptance"};
+    for (int c = 0; c < int(RejectCause::Count); ++c)
+        t.columns.push_back(rejectCauseName(RejectCause(c)));
+    t.columns.push_back("seconds");
+    t.rows = names_;
+    for (const auto& k : counters_) {
+        std::vector<double> row = {double(k.proposed), double(k.accepted),
+                                   k.proposed ? k.acceptance / double(k.proposed) : 0.0};
+        for (const auto r : k.rejected)
+            row.push_back(double(r));
+        row.push_back(k.seconds);
+        t.values.push_back(std::move(row));
+    }
+    return t;
+}
+
+std::string MutationStatistics::text() const {
+    std::string out;
+    char line[256];
+    std::snprintf(line, sizeof line, "%-16s %12s %9s %10s %10s %9s %9s %9s %9s %9s\n", "strategy", "proposed",
+                  "accepted", "mean a", "zero f", "occluded", "off image", "config", "nonfinite", "us/prop");
+    out += line;
+    for (size_t i = 0; i < names_.size(); ++i) {
+        const auto& k = counters_[i];
+        const double n = double(k.proposed);
+        auto pct = [&](double v) { return n > 0 ? 100.0 * v / n : 0.0; };
+        std::snprintf(line, sizeof line, "%-16s %12llu %8.2f%% %10.4f %9.2f%% %8.2f%% %8.2f%% %8.2f%% %9llu %9.2f\n",
+                      names_[i].c_str(), (unsigned long long)k.proposed, pct(double(k.accepted)),
+                      n > 0 ? k.acceptance / n : 0.0, pct(double(k.rejected[0])), pct(double(k.rejected[1])),
+                      pct(double(k.rejected[2])), pct(double(k.rejected[3])), (unsigned long long)k.rejected[4],
+                      n > 0 ? 1e6 * k.seconds / n : 0.0);
+        out += line;
+    }
+    return out;
+}
+
+} // namespace lt

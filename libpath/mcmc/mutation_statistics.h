@@ -1,0 +1,57 @@
+// Per-strategy counters of a Markov-chain run (STYLE.md, after Tungsten: cheap and loved): what was
+// proposed, what was accepted, and why the rest was rejected. lt-mutate prints them as a table and
+// stores them in the output's STAT chunk.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "formats/records.h"
+
+namespace lt {
+
+// Why a proposal had no chance: a proposal that was evaluated and lost the Metropolis-Hastings draw is
+// "rejected by chance" (the complement of the acceptance probability), not one of these.
+enum class RejectCause : int {
+    ZeroContribution = 0, // the proposed path carries no light (absorbed, missed the light, BSDF zero)
+    Occluded,             // a connection or a deterministic segment was blocked
+    LeftImage,            // the proposal's camera ray lands outside the sensor
+    ConfigurationChanged, // a perturbation met a different kind of vertex than the path had
+    NonFinite,            // NaN or Inf: dropped and counted (no NaN reaches an output)
+    Count
+};
+[[nodiscard]] const char* rejectCauseName(RejectCause c);
+
+struct StrategyCounters {
+    uint64_t proposed = 0;
+    uint64_t accepted = 0;
+    double acceptance = 0; // sum of the acceptance probabilities
+    std::array<uint64_t, size_t(RejectCause::Count)> rejected{};
+    double seconds = 0; // CPU time spent proposing and evaluating
+
+    void merge(const StrategyCounters& o);
+};
+
+class MutationStatistics {
+public:
+    explicit MutationStatistics(std::vector<std::string> strategies = {});
+
+    [[nodiscard]] const std::vector<std::string>& strategies() const { return names_; }
+    StrategyCounters& operator[](size_t i) { return counters_[i]; }
+    [[nodiscard]] const StrategyCounters& operator[](size_t i) const { return counters_[i]; }
+    void merge(const MutationStatistics& o);
+
+    // The table as stored in files: one row per strategy; columns proposed, accepted, acceptance (mean
+    // probability), one column per rejection cause, seconds.
+    [[nodiscard]] file::StatTable table(const std::string& name = "strategies") const;
+    // The same as aligned text for a terminal.
+    [[nodiscard]] std::string text() const;
+
+private:
+    std::vector<std::string> names_;
+    std::vector<StrategyCounters> counters_;
+};
+
+} // namespace lt

@@ -1,0 +1,77 @@
+#include "mcmc/primary_sample_vector.h"
+
+#include <cmath>
+
+namespace lt {
+
+double SmallStepKernel::mutate(double u, Pcg32& rng) const {
+    const double xi = rng.nextDouble();
+    const double offset = s2 * std::exp(-std::log(s2 / s1) * rng.nextDouble());
+    double v = xi < 0.5 ? u + offset : u - offset;
+    v -= std::floor(v);
+    return v < 1.0 ? v : 0.0; // floor of a tiny negative number can round v up to exactly 1
+}
+
+PrimarySampleVector::PrimarySampleVector(Pcg32 rng, Pcg32 init, SmallStepKernel kernel)
+    : rng_(rng), init_(init), kernel_(kernel) {}
+
+void PrimarySampleVector::startIteration(bool largeStep) {
+    ++iteration_;
+    largeStep_ = largeStep;
+    restart();
+}
+
+void PrimarySampleVector::accept() {
+    if (largeStep_) lastLargeStep_ = iteration_;
+}
+
+void PrimarySampleVector::reject() {
+    for (auto& c : x_)
+        if (c.modified == iteration_) {
+            c.value = c.backup;
+            c.modified = c.backupModified;
+        }
+    // The rejected iteration happened all the same: the next proposal counts it among the iterations
+    // whose small steps the coordinates have missed.
+}
+
+void PrimarySampleVector::restart() {
+    for (auto& i : streamIndex_)
+        i = 0;
+    stream_ = 0;
+}
+
+void PrimarySampleVector::startStream(Stream s) { stream_ = int(s); }
+
+double PrimarySampleVector::next1D() {
+    const size_t index = streamIndex_[stream_]++ * StreamCount + size_t(stream_);
+    return prepare(index).value;
+}
+
+double PrimarySampleVector::value(Stream s, size_t index) const {
+    const size_t i = index * StreamCount + size_t(s);
+    return i < x_.size() ? x_[i].value : 0.0;
+}
+
+PrimarySampleVector::Coordinate& PrimarySampleVector::prepare(size_t index) {
+    if (index >= x_.size()) x_.resize(index + 1);
+    Coordinate& c = x_[index];
+    if (c.modified == iteration_) return c;
+    c.backup = c.value;
+    c.backupModified = c.modified;
+    if (c.modified == Never) {
+        // A coordinate no evaluation has read yet: uniform, like every coordinate the sampler has not
+        // looked at. The initial state draws from its own stream.
+        c.value = iteration_ == 0 ? init_.nextDouble() : rng_.nextDouble();
+    } else if (largeStep_ || c.modified < lastLargeStep_) {
+        c.value = rng_.nextDouble();
+    } else {
+        // The small steps of the iterations since the last change, this one included.
+        for (uint64_t k = c.modified; k < iteration_; ++k)
+            c.value = kernel_.mutate(c.value, rng_);
+    }
+    c.modified = iteration_;
+    return c;
+}
+
+} // namespace lt

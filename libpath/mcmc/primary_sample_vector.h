@@ -1,0 +1,73 @@
+// The state of a primary-sample-space chain (Kelemen et al. 2002; ALGORITHMS.md 8): an unbounded vector
+// u of numbers in [0, 1) that a path sampler (our BDPT) consumes through the SampleGenerator interface,
+// so the same sampler code runs under independent sampling and under the Markov chain.
+//
+// Coordinates are created and mutated lazily, when the sampler reads them (pbrt-v3's MLTSampler is the
+// model). For the chain to be the textbook one, in which EVERY coordinate is mutated at every iteration
+// with a symmetric kernel (the acceptance is then f*(u') / f*(u)), a coordinate read at iteration k
+// receives all the mutations it missed since it was last touched: a fresh uniform value if a large step
+// was accepted meanwhile (anything symmetric after a uniform draw stays uniform), otherwise one
+// exponential small step per missed iteration. Three interleaved streams (camera, light, connection) keep
+// the subpaths' numbers apart, so a longer camera subpath does not shift the light subpath's numbers.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "math/rng.h"
+#include "sampling/sample_generator.h"
+
+namespace lt {
+
+// Kelemen's small step: u + or - s2 exp(-ln(s2 / s1) xi), wrapped to [0, 1) (ALGORITHMS.md 8), with
+// s1 = 1/1024 and s2 = 1/64 by default. Symmetric: the density of the offset depends on |offset| only.
+struct SmallStepKernel {
+    double s1 = 1.0 / 1024.0, s2 = 1.0 / 64.0;
+    [[nodiscard]] double mutate(double u, Pcg32& rng) const;
+};
+
+class PrimarySampleVector final : public SampleGenerator {
+public:
+    // `rng` draws the chain's mutations; `init` draws the coordinates of the initial state (a bootstrap
+    // sample re-created from its own stream, so chains started from the same sample still differ).
+    PrimarySampleVector(Pcg32 rng, Pcg32 init, SmallStepKernel kernel = {});
+
+    // Begin a proposal: iteration k + 1, a large step (all coordinates fresh) or a small step.
+    void startIteration(bool largeStep);
+    // End the proposal: keep the proposed coordinates, or restore those it changed.
+    void accept();
+    void reject();
+    // Start reading from the first coordinate of every stream again (each evaluation of the sampler).
+    void restart();
+
+    void startStream(Stream s) override;
+    [[nodiscard]] double next1D() override;
+
+    [[nodiscard]] uint64_t iteration() const { return iteration_; }
+    [[nodiscard]] bool largeStep() const { return largeStep_; }
+    [[nodiscard]] size_t dimension() const { return x_.size(); }
+    // Coordinate `index` of stream `s` as it is now (tests).
+    [[nodiscard]] double value(Stream s, size_t index) const;
+    Pcg32& rng() { return rng_; }
+
+private:
+    static constexpr int StreamCount = 3;
+    static constexpr uint64_t Never = ~uint64_t(0);
+    struct Coordinate {
+        double value = 0;
+        uint64_t modified = Never; // iteration of the last change (Never: not created yet)
+        double backup = 0;
+        uint64_t backupModified = Never;
+    };
+    Coordinate& prepare(size_t index);
+
+    Pcg32 rng_, init_;
+    SmallStepKernel kernel_;
+    std::vector<Coordinate> x_;
+    uint64_t iteration_ = 0, lastLargeStep_ = 0;
+    bool largeStep_ = true;
+    int stream_ = 0;
+    size_t streamIndex_[StreamCount] = {0, 0, 0};
+};
+
+} // namespace lt

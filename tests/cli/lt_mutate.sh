@@ -1,0 +1,55 @@
+#!/usr/bin/env bash
+# lt-mutate from the command line: complete output with statistics, bit-identical images whatever the
+# thread count, seeds from a pipe, snapshots for lt-error, Ctrl-C keeps the work done, one error line
+# for bad input.
+#   lt_mutate.sh BIN_DIR SOURCE_DIR
+source "$(dirname "${BASH_SOURCE[0]}")/lib.bash" "$@"
+tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
+scene="$src/tests/cli/tiny_box.xml"
+
+for space in primary multiplexed; do
+    "$bin/lt-mutate" "$scene" --space $space --mutations 20000 --chains 16 --startup-samples 2000 --threads 1 --seed 5 \
+        -o "$tmp/$space-1.lts" -q; code=$?
+    check "$space: exit 0, complete file" '[ $code -eq 0 ] && [ "$(tail -c 16 "$tmp/$space-1.lts" | head -c 4)" = "END!" ]'
+    "$bin/lt-mutate" "$scene" --space $space --mutations 20000 --chains 16 --startup-samples 2000 --threads 2 --seed 5 \
+        -o "$tmp/$space-2.lts" -q
+    check "$space: 1 vs 2 threads, identical image" \
+        '[ "$(chunks "$tmp/$space-1.lts" | grep ^BUFR)" = "$(chunks "$tmp/$space-2.lts" | grep ^BUFR)" ]'
+    stats=$("$bin/lt-inspect" "$tmp/$space-1.lts")
+    check "$space: strategy statistics stored" 'echo "$stats" | grep -q "large step" && echo "$stats" | grep -q "small step"'
+    check "$space: normalization stored" 'echo "$stats" | grep -q "startup_samples"'
+done
+
+"$bin/lt-seed" "$scene" --spp 1 --paths - -o "$tmp/seed.lts" -q | \
+    "$bin/lt-mutate" "$scene" - --mutations 5000 --chains 8 --startup-samples 1000 -o "$tmp/piped.lts" 2> "$tmp/err"; code=$?
+check "seeds from a pipe: exit 0" '[ $code -eq 0 ]'
+check "seeds from a pipe: says how it used them" 'grep -q "seed paths" "$tmp/err"'
+check "the end-of-run table names the strategies" 'grep -q "small step" "$tmp/err"'
+
+"$bin/lt-mutate" "$scene" --mutations-per-pixel 64 --chains 8 --startup-samples 1000 --snapshot-mutations 8,16,32 \
+    -o "$tmp/snap.lts" -q
+"$bin/lt-image" "$tmp/snap.lts" -o "$tmp/ref.exr" -q 2>/dev/null || "$bin/lt-image" "$tmp/snap.lts" -o "$tmp/ref.exr" > /dev/null 2>&1
+table=$("$bin/lt-error" "$tmp/snap.lts" --ref "$tmp/ref.exr" 2>&1)
+check "snapshots: lt-error lists three of them" '[ "$(echo "$table" | grep -c SNAP)" -eq 3 ]'
+
+"$bin/lt-mutate" "$scene" --mutations 1000000000 --chains 8 --startup-samples 1000 -o "$tmp/int.lts" -q & pid=$!
+sleep 2; kill -INT $pid; wait $pid; code=$?
+check "Ctrl-C: exit code 130" '[ $code -eq 130 ]'
+check "Ctrl-C: a complete file with the work done" '[ "$(tail -c 16 "$tmp/int.lts" | head -c 4)" = "END!" ] && chunks "$tmp/int.lts" | grep -q "^BUFR"'
+
+out=$("$bin/lt-mutate" "$scene" -o "$tmp/x.lts" 2>&1); code=$?
+check "no length given: one error line" '[ $code -ne 0 ] && [ "$(echo "$out" | wc -l)" -eq 1 ]'
+out=$("$bin/lt-mutate" "$scene" --time 1 --space path -o "$tmp/x.lts" 2>&1); code=$?
+check "--space path: says it is not built yet" '[ $code -ne 0 ] && echo "$out" | grep -q "not built yet"'
+out=$("$bin/lt-mutate" "$src/tests/cli/nope.xml" --time 1 -o "$tmp/x.lts" 2>&1); code=$?
+check "missing scene: one line naming it" '[ $code -ne 0 ] && [ "$(echo "$out" | wc -l)" -eq 1 ] && echo "$out" | grep -q nope.xml'
+printf 'LTF\001garbage' > "$tmp/bad.ltp"
+out=$("$bin/lt-mutate" "$scene" "$tmp/bad.ltp" --time 1 -o "$tmp/x.lts" 2>&1); code=$?
+check "corrupt seed file: one line naming it" '[ $code -ne 0 ] && [ "$(echo "$out" | wc -l)" -eq 1 ] && echo "$out" | grep -q bad.ltp'
+"$bin/lt-seed" "$src/scenes/cornell-spheres/scene.xml" --spp 1 --resolution 8x8 --paths "$tmp/other.ltp" -o "$tmp/o.lts" -q
+out=$("$bin/lt-mutate" "$scene" "$tmp/other.ltp" --time 1 -o "$tmp/x.lts" 2>&1); code=$?
+check "seeds of another scene: refused" '[ $code -ne 0 ] && echo "$out" | grep -q "scene"'
+"$bin/lt-mutate" "$scene" --large-step 2 --time 1 -o "$tmp/x.lts" > /dev/null 2>&1; code=$?
+check "large-step probability above 1 refused" '[ $code -ne 0 ]'
+check "no output left behind by failed runs" '[ ! -e "$tmp/x.lts" ]'
+exit $fail

@@ -1,0 +1,240 @@
+// lt-mutate: Markov-chain Monte Carlo rendering (ALGORITHMS.md 1.4, 8): Kelemen's primary-sample-space
+// MLT and multiplexed MLT over lt's BDPT, with per-strategy statistics, snapshots and Ctrl-C.
+#include <cmath>
+#include <iomanip>
+#include <iostream>
+
+#include "common/info.h"
+#include "common/interrupt.h"
+#include "common/progress.h"
+#include "common/scene_options.h"
+#include "common/tool.h"
+#include "formats/ltfile.h"
+#include "mcmc/primary_space_chains.h"
+
+using lt::tool::formatSeconds;
+
+int main(int argc, char** argv) {
+    CLI::App app{"lt-mutate: render a Mitsuba scene with Markov chains. --space primary is Kelemen's primary-sample-"
+                 "space MLT over BDPT (every (s,t) strategy of a sample accepted or rejected together); --space "
+                 "multiplexed is Hachisuka's multiplexed MLT (one (s,t) strategy per sample, chosen by the chain, "
+                 "chains grouped by path length). Chains start from a start-up run that estimates the normalization "
+                 "b and picks their first states in proportion to the target (start-up bias removal). Same seed and "
+                 "mutation count give a bit-identical image whatever the thread count. Prints per-strategy "
+                 "statistics and stores them in the output. Ctrl-C stops early and still writes a valid file.",
+                 "lt-mutate"};
+    std::string scenePath, seedsPath, out, space = "multiplexed", resolution, snapshotTimes, snapshotMutations,
+                                           strategies = "auto", dumpPaths;
+    uint64_t mutations = 0, seed = 0, startupSamples = 100000;
+    double timeLimit = 0, mutationsPerPixel = 0, largeStep = 0.3;
+    int chains = 256, threads = 0, maxDepth = -2, unbounded = 12, round = 256;
+    size_t dumpEvery = 0;
+    bool quiet = false;
+    std::vector<std::string> defines;
+    app.add_option("SCENE", scenePath, "Mitsuba 0.5/0.6 scene (.xml)")->required();
+    app.add_option("SEEDS", seedsPath, "seed paths from lt-seed --paths (.ltp, or - for stdin); used by --space path");
+    app.add_option("-o,--output", out, "output sample buffer (.lts), or - for stdout")->required();
+    app.add_option("--space", space, "primary (Kelemen PSSMLT) or multiplexed (default; Hachisuka MMLT)")
+        ->check(CLI::IsMember({"primary", "multiplexed", "path"}));
+    app.add_option("--strategies", strategies,
+                   "path-space mutations (auto); primary spaces have their own two: "
+                   "large step and small step");
+    app.add_option("--mutations", mutations, "total mutations over all chains")->check(CLI::PositiveNumber);
+    app.add_option("--mutations-per-pixel", mutationsPerPixel, "total mutations as a multiple of the pixel count")
+        ->check(CLI::PositiveNumber);
+    app.add_option("--time", timeLimit, "run for this many seconds, start-up included (ends at a round boundary)")
+        ->check(CLI::PositiveNumber);
+    app.add_option("--chains", chains, "independent chains (default 256, whatever the thread count)")
+        ->check(CLI::PositiveNumber);
+    app.add_option("--threads", threads, "worker threads (default: all cores)")->check(CLI::NonNegativeNumber);
+    app.add_option("--seed", seed, "random seed (default 0)");
+    app.add_option("--max-depth", maxDepth,
+                   "longest path in edges, Mitsuba's meaning (default: the scene's "
+                   "integrator maxDepth)");
+    app.add_option("--max-length-unbounded", unbounded,
+                   "multiplexed: the path-length bound used when the max depth is -1 (default 12)")
+        ->check(CLI::PositiveNumber);
+    app.add_option("--large-step", largeStep, "probability of a large step (default 0.3, Mitsuba's)")
+        ->check(CLI::Range(0.0, 1.0));
+    app.add_option("--startup-samples", startupSamples,
+                   "independent samples that estimate b and seed the chains (default 100000; multiplexed: spread "
+                   "over the path lengths)")
+        ->check(CLI::PositiveNumber);
+    app.add_option("--round", round,
+                   "mutations per chain between merges (default 256; sets the granularity of "
+                   "--time and snapshots, not the estimate)")
+        ->check(CLI::PositiveNumber);
+    app.add_option("--resolution", resolution, "film size WxH, overriding the scene's (keeps the horizontal fov)");
+    app.add_option("--snapshots", snapshotTimes,
+                   "write progress snapshots for lt-error: 'doubling', 'doubling:START' or seconds '5,10,30'");
+    app.add_option("--snapshot-mutations", snapshotMutations,
+                   "write snapshots at these mutations per pixel, e.g. '1,4,16'");
+    app.add_option("--dump-paths", dumpPaths, "path space: write every K-th state (.ltp)");
+    app.add_option("--dump-every", dumpEvery, "with --dump-paths: K");
+    app.add_option("-D,--define", defines, "scene parameter NAME=VALUE, overriding the scene's <default>")
+        ->type_name("NAME=VALUE");
+    app.add_flag("-q,--quiet", quiet, "no progress output");
+
+    return lt::tool::run(app, argc, argv, [&] {
+        if (space == "path")
+            throw lt::Error("--space path (Veach's bidirectional mutation and perturbations) is not built yet; use "
+                            "--space primary or --space multiplexed");
+        if (!dumpPaths.empty() || dumpEvery) throw lt::Error("--dump-paths needs --space path");
+        if (app.count("--strategies") && strategies != "auto")
+            throw lt::Error("--strategies selects path-space mutations; --space " + space +
+                            " has its own (large and small steps, --large-step)");
+        const int bounds = (mutations > 0) + (mutationsPerPixel > 0);
+        if (bounds > 1) throw lt::Error("give --mutations or --mutations-per-pixel, not both");
+        if (bounds == 0 && !(timeLimit > 0)) throw lt::Error("give --mutations, --mutations-per-pixel or --time");
+        if (!snapshotTimes.empty() && !snapshotMutations.empty())
+            throw lt::Error("give --snapshots or --snapshot-mutations, not both");
+        auto scene = lt::tool::loadSceneWithOptions("lt-mutate", scenePath, defines, resolution, quiet);
+
+        // Seeds are path-space states; the primary spaces start from their own start-up samples, whose
+        // b integrates the same target in their own measure. A seed file is still checked and its b shown.
+        double seedB = -1;
+        if (!seedsPath.empty()) {
+            const auto seeds = lt::file::readAll(seedsPath, lt::file::FileKind::Paths);
+            lt::file::checkSceneHash(seeds.info, scene->contentHash, seedsPath == "-" ? "<stdin>" : seedsPath,
+                                     scenePath);
+            for (const auto& t : seeds.stats)
+                if (t.name == "normalization")
+                    for (size_t r = 0; r < t.rows.size(); ++r)
+                        if (t.rows[r] == "b" && !t.values[r].empty()) seedB = t.values[r][0];
+            if (!quiet)
+                std::cerr << "lt-mutate: --space " << space << " starts its chains from its own start-up samples; the "
+                          << seeds.paths.size() << " seed paths are for --space path (their b = " << seedB << ")\n";
+        }
+
+        lt::PrimarySpaceSettings ps;
+        ps.space = space == "primary" ? lt::PrimarySpace::Kelemen : lt::PrimarySpace::Multiplexed;
+        ps.bdpt.maxDepth = maxDepth != -2 ? maxDepth : scene->integrator.maxDepth;
+        ps.bdpt.rrDepth = scene->integrator.rrDepth;
+        if (ps.bdpt.maxDepth == 0 || ps.bdpt.maxDepth < -1)
+            throw lt::Error("--max-depth must be -1 (unbounded) or at least 1");
+        ps.unboundedEdges = unbounded;
+        ps.largeStepProbability = largeStep;
+        ps.startupSamples = startupSamples;
+        if (!quiet && ps.space == lt::PrimarySpace::Multiplexed && ps.bdpt.maxDepth < 0)
+            std::cerr << "lt-mutate: warning: the max depth is unbounded; multiplexed chains cover paths of up to "
+                      << unbounded << " edges (--max-length-unbounded)\n";
+
+        lt::SampleFilm film(scene->camera);
+        const double pixels = double(film.width()) * double(film.height());
+        lt::ChainRunSettings rs;
+        rs.mutations = mutations > 0 ? mutations : uint64_t(std::llround(mutationsPerPixel * pixels));
+        rs.timeLimit = timeLimit;
+        rs.chains = chains;
+        rs.threads = threads;
+        rs.seed = seed;
+        rs.mutationsPerRound = round;
+        if (!snapshotTimes.empty()) rs.snapshots = lt::SnapshotSchedule::parseTimes(snapshotTimes);
+        if (!snapshotMutations.empty()) rs.snapshots = lt::SnapshotSchedule::parseSamples(snapshotMutations);
+
+        nlohmann::json params = {{"space", space},
+                                 {"mutations", rs.mutations},
+                                 {"time_limit", timeLimit},
+                                 {"chains", chains},
+                                 {"seed", seed},
+                                 {"max_depth", ps.bdpt.maxDepth},
+                                 {"rr_depth", ps.bdpt.rrDepth},
+                                 {"large_step", largeStep},
+                                 {"small_step", {{"s1", ps.smallStep.s1}, {"s2", ps.smallStep.s2}}},
+                                 {"startup_samples", startupSamples},
+                                 {"round", round},
+                                 {"snapshots", snapshotTimes.empty() ? snapshotMutations : snapshotTimes},
+                                 {"resolution", {scene->camera.film().width, scene->camera.film().height}},
+                                 {"filter", scene->camera.film().filter.name()},
+                                 {"estimator", "expected-value splatting; image = b / N sum f / f* at each state"}};
+        if (ps.space == lt::PrimarySpace::Multiplexed)
+            params["max_length"] = ps.bdpt.maxDepth > 0 ? ps.bdpt.maxDepth : unbounded;
+        lt::file::Writer writer(out, lt::file::FileKind::Buffer,
+                                lt::tool::makeInfo("lt-mutate", argc, argv, params, scene.get()));
+
+        lt::tool::installInterruptHandler();
+        lt::tool::Progress progress("lt-mutate", quiet);
+        const auto stats = lt::runPrimarySpaceChains(
+            *scene, ps, rs, film,
+            [&](const lt::ChainRunProgress& p) {
+                std::ostringstream d;
+                if (std::string(p.phase) == "start-up") {
+                    d << "start-up, " << formatSeconds(p.wallSeconds);
+                } else {
+                    d << std::setprecision(3) << double(p.mutations) / pixels << " mutations/pixel, "
+                      << formatSeconds(p.wallSeconds);
+                    if (p.fraction > 0.02 && p.fraction < 1)
+                        d << ", " << formatSeconds(p.wallSeconds * (1 / p.fraction - 1)) << " left";
+                }
+                progress.update(p.fraction, d.str());
+            },
+            &lt::tool::stopRequested(),
+            [&](const lt::ChainRunProgress& p, const lt::SampleFilm& f) {
+                lt::file::Snapshot snap;
+                snap.wallSeconds = p.wallSeconds;
+                snap.cpuSeconds = p.cpuSeconds;
+                snap.samples = p.mutations;
+                snap.overheadSeconds = p.snapshotSeconds;
+                snap.buffer = f.toBuffer();
+                writer.writeSnapshot(snap);
+            });
+        progress.finish();
+
+        writer.writeBuffer(film.toBuffer());
+        const lt::file::StatTable runTable{"run",
+                                           {"value"},
+                                           {"mutations", "mutations_per_pixel", "chains", "wall_seconds", "cpu_seconds",
+                                            "startup_seconds", "rays", "nonfinite_dropped", "interrupted", "snapshots",
+                                            "snapshot_seconds"},
+                                           {{double(stats.mutations)},
+                                            {double(stats.mutations) / pixels},
+                                            {double(chains)},
+                                            {stats.wallSeconds},
+                                            {stats.cpuSeconds},
+                                            {stats.startupSeconds},
+                                            {double(stats.rays)},
+                                            {double(stats.health.nonFinite)},
+                                            {stats.interrupted ? 1.0 : 0.0},
+                                            {double(stats.snapshots)},
+                                            {stats.snapshotSeconds}}};
+        writer.writeStats(runTable);
+        lt::file::StatTable norm{
+            "normalization", {"value"}, {"b", "startup_samples"}, {{stats.b}, {double(stats.startupSamples)}}};
+        if (seedB >= 0) {
+            norm.rows.push_back("b_seed_file");
+            norm.values.push_back({seedB});
+        }
+        writer.writeStats(norm);
+        writer.writeStats(stats.strategies.table());
+        if (ps.space == lt::PrimarySpace::Multiplexed) {
+            lt::file::StatTable lengths{"path_lengths", {"b", "chains"}, {}, {}};
+            for (size_t k = 1; k < stats.bPerLength.size(); ++k) {
+                lengths.rows.push_back(std::to_string(k) + " edges");
+                lengths.values.push_back({stats.bPerLength[k], double(stats.chainsPerLength[k])});
+            }
+            writer.writeStats(lengths);
+        }
+        writer.finish();
+
+        if (!quiet) {
+            std::cerr << "lt-mutate: b = " << stats.b << " from " << stats.startupSamples << " start-up samples ("
+                      << formatSeconds(stats.startupSeconds) << ")\n"
+                      << stats.strategies.text();
+            if (ps.space == lt::PrimarySpace::Multiplexed) {
+                std::cerr << "chains per path length (edges: chains, share of b):";
+                for (size_t k = 1; k < stats.bPerLength.size(); ++k)
+                    if (stats.chainsPerLength[k] > 0)
+                        std::cerr << "  " << k << ": " << stats.chainsPerLength[k] << ", " << std::setprecision(3)
+                                  << 100 * stats.bPerLength[k] / stats.b << "%";
+                std::cerr << '\n';
+            }
+            std::cerr << "lt-mutate: " << (stats.interrupted ? "interrupted after " : "") << std::setprecision(4)
+                      << double(stats.mutations) / pixels << " mutations/pixel in " << formatSeconds(stats.wallSeconds)
+                      << " (" << std::setprecision(3) << double(stats.mutations) / stats.wallSeconds / 1e3
+                      << "k mutations/s, " << double(stats.rays) / stats.wallSeconds / 1e6 << "M rays/s) -> "
+                      << writer.name();
+            if (stats.health.nonFinite) std::cerr << " (" << stats.health.nonFinite << " non-finite samples dropped)";
+            std::cerr << '\n';
+        }
+        return stats.interrupted ? 130 : 0;
+    });
+}

@@ -27,7 +27,7 @@ int main(int argc, char** argv) {
                                            strategies = "auto", dumpPaths;
     uint64_t mutations = 0, seed = 0, startupSamples = 100000;
     double timeLimit = 0, mutationsPerPixel = 0, largeStep = 0.3;
-    int chains = 256, threads = 0, maxDepth = -2, unbounded = 12, round = 256;
+    int chains = 256, threads = 0, maxDepth = -2, unbounded = 12, round = 64;
     size_t dumpEvery = 0;
     bool quiet = false;
     std::vector<std::string> defines;
@@ -42,7 +42,7 @@ int main(int argc, char** argv) {
     app.add_option("--mutations", mutations, "total mutations over all chains")->check(CLI::PositiveNumber);
     app.add_option("--mutations-per-pixel", mutationsPerPixel, "total mutations as a multiple of the pixel count")
         ->check(CLI::PositiveNumber);
-    app.add_option("--time", timeLimit, "run for this many seconds, start-up included (ends at a round boundary)")
+    app.add_option("--time", timeLimit, "run for this many seconds, start-up included")
         ->check(CLI::PositiveNumber);
     app.add_option("--chains", chains, "independent chains (default 256, whatever the thread count)")
         ->check(CLI::PositiveNumber);
@@ -61,8 +61,8 @@ int main(int argc, char** argv) {
                    "over the path lengths)")
         ->check(CLI::PositiveNumber);
     app.add_option("--round", round,
-                   "mutations per chain between merges (default 256; sets the granularity of "
-                   "--time and snapshots, not the estimate)")
+                   "mutations per chain between merges (default 64; sets the granularity of "
+                   "snapshots, not the estimate)")
         ->check(CLI::PositiveNumber);
     app.add_option("--resolution", resolution, "film size WxH, overriding the scene's (keeps the horizontal fov)");
     app.add_option("--snapshots", snapshotTimes,

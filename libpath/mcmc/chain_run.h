@@ -26,7 +26,7 @@ struct ChainRunSettings {
     int chains = 256;       // independent chains; more chains, better stratified, shorter each
     int threads = 0;        // 0 = all cores
     uint64_t seed = 0;
-    int mutationsPerRound = 256; // per chain between merges (granularity of time limit and snapshots)
+    int mutationsPerRound = 64;  // per chain between merges (granularity of snapshots)
     SnapshotSchedule snapshots;  // checked at the end of every round (sample counts: mutations per pixel)
 };
 

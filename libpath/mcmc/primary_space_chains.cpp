@@ -32,6 +32,7 @@ Pcg32 chainStream(uint64_t seed, uint64_t chain) {
 }
 
 struct Chain {
+    Chain(PrimarySampleVector start, int length) : u(std::move(start)), edges(length) {}
     PrimarySampleVector u;
     ChainPosition position;
     int edges = 0;
@@ -136,8 +137,8 @@ ChainRunStats runPrimarySpaceChains(const Scene& scene, const PrimarySpaceSettin
         Pcg32 rng = chainStream(run.seed, uint64_t(c));
         const int k = int(lengthShare.sample((c + offset) / run.chains)) + 1;
         const size_t index = startFrom[size_t(k)].sample(rng.nextDouble());
-        auto chain = std::make_unique<Chain>(Chain{
-            PrimarySampleVector(rng, startupStream(run.seed, multiplexed ? k : 0, index), space.smallStep), {}, k});
+        auto chain = std::make_unique<Chain>(
+            PrimarySampleVector(rng, startupStream(run.seed, multiplexed ? k : 0, index), space.smallStep), k);
         ++stats.chainsPerLength[size_t(k)];
         if (run.mutations > 0)
             chain->quota = run.mutations / uint64_t(run.chains) + (uint64_t(c) < run.mutations % uint64_t(run.chains));
@@ -177,7 +178,12 @@ ChainRunStats runPrimarySpaceChains(const Scene& scene, const PrimarySpaceSettin
                 }
                 const uint64_t n = std::min<uint64_t>(uint64_t(run.mutationsPerRound), ch.quota - ch.done);
                 Pcg32& rng = ch.u.rng();
-                for (uint64_t i = 0; i < n; ++i) {
+                uint64_t i = 0;
+                for (; i < n; ++i) {
+                    // A time limit or Ctrl-C ends the round early (checked every 16 mutations, so a slow
+                    // round cannot overshoot); only runs of a fixed mutation count are bit-reproducible.
+                    if (i % 16 == 15 && ((run.timeLimit > 0 && elapsed() - stats.snapshotSeconds >= run.timeLimit) || stopped()))
+                        break;
                     const bool large = rng.nextDouble() < pLarge;
                     StrategyCounters& k = ch.stats[large ? LargeStep : SmallStep];
                     const auto t0 = std::chrono::steady_clock::now();
@@ -203,8 +209,8 @@ ChainRunStats runPrimarySpaceChains(const Scene& scene, const PrimarySpaceSettin
                     k.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
                 }
                 ch.position.flush(image);
-                ch.done += n;
-                roundMutations[ci] = n;
+                ch.done += i;
+                roundMutations[ci] = i;
                 EmbreeAccel::flushRayCount();
             });
         });

@@ -9,9 +9,9 @@ scene="$src/tests/cli/tiny_box.xml"
 
 bash "$src/pipelines/reference.sh" "$scene" --time 1 -o "$tmp/ref.exr" > /dev/null 2>&1
 check "reference.sh writes an EXR" '[ "$(magic "$tmp/ref.exr" 4)" = "762f3101" ]'
-bash "$src/pipelines/compare.sh" "$scene" --time 1 --methods "pt bdpt" --ref "$tmp/ref.exr" --crop 2,2,8,8 --out "$tmp/cmp" > "$tmp/log" 2>&1; code=$?
+bash "$src/pipelines/compare.sh" "$scene" --time 1 --methods "bdpt mmlt" --ref "$tmp/ref.exr" --crop 2,2,8,8 --out "$tmp/cmp" > "$tmp/log" 2>&1; code=$?
 check "compare.sh: exit 0" '[ $code -eq 0 ]'
-check "compare.sh: images of both methods" '[ -s "$tmp/cmp/pt.exr" ] && [ -s "$tmp/cmp/bdpt.png" ]'
+check "compare.sh: images of both methods (lt-seed and lt-mutate)" '[ -s "$tmp/cmp/bdpt.exr" ] && [ -s "$tmp/cmp/mmlt.png" ]'
 check "compare.sh: error table and CSV" 'grep -q relMSE "$tmp/cmp/error.txt" && [ "$(grep -c "BUFR" "$tmp/cmp/error.csv")" -eq 2 ]'
 check "compare.sh: plot and figure are PNGs" '[ "$(magic "$tmp/cmp/error.png" 4)" = "89504e47" ] && [ "$(magic "$tmp/cmp/figure.png" 4)" = "89504e47" ]'
 out=$(bash "$src/pipelines/compare.sh" "$scene" --time 1 --methods "pt memlt" --out "$tmp/cmp2" 2>&1); code=$?

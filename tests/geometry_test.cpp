@@ -130,6 +130,62 @@ TEST_CASE("differential geometry matches finite differences", "[geometry]") {
             }
         }
     }
+    SECTION("triangle with interpolated normals and degenerate uvs (all 0): the plane's frame as chart") {
+        // veach-bidir's egg has every uv at 0. surfaceAt then charts the triangle's plane with an
+        // orthonormal frame (pbrt-v3), and dn/du, dn/dv must be the derivatives of the normalized
+        // shading normal along that same chart (the manifold walks' curvature, ALGORITHMS.md 1.5).
+        TriangleMesh m;
+        m.positions = {{0, 0, 0}, {1, 0.1f, 0}, {0.2f, 1, 0.3f}};
+        m.normals = {Vec3f(normalize(Vec3(0.1, 0, 1))), Vec3f(normalize(Vec3(0.4, -0.2, 1))),
+                     Vec3f(normalize(Vec3(-0.3, 0.5, 1)))};
+        m.uvs.assign(3, Vec2f(0, 0));
+        m.triangles = {{0, 1, 2}};
+        const Vec3 p0(m.positions[0]), e1 = Vec3(m.positions[1]) - p0, e2 = Vec3(m.positions[2]) - p0;
+        for (bool flip : {false, true}) {
+            const Shape s = Shape::triangles(m, flip);
+            const SurfaceInteraction c = s.surfaceAt(0, {1.0 / 3, 1.0 / 3});
+            // The chart spans the triangle's plane (orthonormal, normal to ng) and is the same everywhere.
+            CHECK(std::abs(length(c.dpdu) - 1) < 1e-12);
+            CHECK(std::abs(length(c.dpdv) - 1) < 1e-12);
+            CHECK(std::abs(dot(c.dpdu, c.dpdv)) < 1e-12);
+            CHECK(length(cross(c.dpdu, c.dpdv) - c.ng) < 1e-12);
+            // Chart coordinates (u, v) -> the point p0 + u dp/du + v dp/dv -> its barycentrics.
+            const double g11 = dot(e1, e1), g12 = dot(e1, e2), g22 = dot(e2, e2), det = g11 * g22 - g12 * g12;
+            auto coords = [=](const Vec2& uv) {
+                const Vec3 d = c.dpdu * uv.x + c.dpdv * uv.y;
+                const double r1 = dot(e1, d), r2 = dot(e2, d);
+                return Vec2((g22 * r1 - g12 * r2) / det, (g11 * r2 - g12 * r1) / det);
+            };
+            Pcg32 rng(7, flip);
+            for (int i = 0; i < 50; ++i) {
+                const Vec2 b = warp::squareToUniformTriangle(rand2(rng));
+                const Vec3 d = e1 * b.x + e2 * b.y;
+                checkDerivatives(s, 0, coords, {dot(d, c.dpdu), dot(d, c.dpdv)}, 1.0);
+                const SurfaceInteraction si = s.surfaceAt(0, b);
+                CHECK(length(si.dpdu - c.dpdu) < 1e-12);
+                CHECK(length(si.dpdv - c.dpdv) < 1e-12);
+                // The normals vary over the face: a flat answer would not be the normal field's.
+                CHECK(lengthSquared(si.dndu) + lengthSquared(si.dndv) > 0.01);
+                // Textures read the uvs as stored, not the chart.
+                CHECK(si.uv == Vec2(0, 0));
+            }
+        }
+    }
+    SECTION("triangle with interpolated normals and no uvs: pbrt's default uvs (0,0), (1,0), (1,1)") {
+        TriangleMesh m;
+        m.positions = {{0, 0, 0}, {1, 0.1f, 0}, {0.2f, 1, 0.3f}};
+        m.normals = {Vec3f(normalize(Vec3(0.1, 0, 1))), Vec3f(normalize(Vec3(0.4, -0.2, 1))),
+                     Vec3f(normalize(Vec3(-0.3, 0.5, 1)))};
+        m.triangles = {{0, 1, 2}};
+        const Shape s = Shape::triangles(m, false);
+        // uv = b1 (1,0) + b2 (1,1), so b1 = u - v, b2 = v.
+        auto coords = [](const Vec2& uv) { return Vec2(uv.x - uv.y, uv.y); };
+        Pcg32 rng(9, 0);
+        for (int i = 0; i < 50; ++i) {
+            const Vec2 b = warp::squareToUniformTriangle(rand2(rng));
+            checkDerivatives(s, 0, coords, {b.x + b.y, b.y}, 2.0);
+        }
+    }
     SECTION("disk (uv = r, phi/2pi)") {
         const Shape s = Shape::disk(Transform::translate({0, 1, 0}) * Transform::rotate({1, 0, 0}, 30) *
                                         Transform::scale({2, 2, 2}),

@@ -25,6 +25,7 @@
 #include "path/path_obj.h"
 #include "path/path_statistics.h"
 #include "math/constants.h"
+#include "manifold/path_chains.h"
 #include "scene/scene.h"
 #include "scene/scene_features.h"
 
@@ -484,8 +485,8 @@ int main(int argc, char** argv) {
                  "surfaces, portals, environment light, and the rendering defaults it gives lt's tools) or an lt file "
                  "(kind, producer, parameters, scene, chunks, buffers, snapshots, statistics tables, paths).",
                  "lt-inspect"};
-    std::string file, objOut;
-    bool json = false, paths = false, histogram = false;
+    std::string file, objOut, manifoldScene;
+    bool json = false, paths = false, histogram = false, manifold = false;
     size_t limit = 0;
     std::vector<std::string> defines;
     app.add_option("FILE", file, "a Mitsuba 0.5/0.6 scene (.xml), an lt file (.lts, .ltp; - for stdin) or an EXR image")
@@ -498,8 +499,15 @@ int main(int argc, char** argv) {
         ->check(CLI::PositiveNumber);
     app.add_option("--obj", objOut, "paths file: write the paths as OBJ polylines (light to eye), one object each");
     app.add_flag("--histogram", histogram, "paths file: show path length and technique histograms as bars");
+    app.add_flag("--manifold", manifold,
+                 "paths file: each path's specular chains, their generalized geometry terms and walks to themselves "
+                 "(--limit paths listed, default 10), then the walk statistics of all paths");
+    app.add_option("--scene", manifoldScene,
+                   "with --manifold: the scene the paths were made from (default: the one named in the file's INFO; "
+                   "its content hash must match)");
     return lt::tool::run(app, argc, argv, [&] {
-        const bool fileOptions = paths || histogram || !objOut.empty() || app.count("--limit");
+        const bool fileOptions =
+            paths || histogram || manifold || !objOut.empty() || !manifoldScene.empty() || app.count("--limit");
         if (lt::isExrFile(file)) {
             if (fileOptions || !defines.empty()) throw lt::Error(file + " is an EXR image: only --json applies");
             const lt::BufferSource s = lt::loadBuffer(file);
@@ -516,11 +524,28 @@ int main(int argc, char** argv) {
             return 0;
         }
         if (isLtFile(file)) {
-            if (!defines.empty()) throw lt::Error("-D applies to scenes; " + file + " is an lt file");
+            if (!defines.empty() && !manifold)
+                throw lt::Error("-D applies to scenes (and to --manifold's scene); " + file + " is an lt file");
+            if (!manifoldScene.empty() && !manifold) throw lt::Error("--scene goes with --manifold");
             const LtFile f = readLtFile(file);
             if ((paths || histogram || !objOut.empty()) && f.content.kind != lt::file::FileKind::Paths)
                 throw lt::Error(f.name + ": --paths, --obj and --histogram need a paths file, this is a buffer file");
+            if (manifold && f.content.kind != lt::file::FileKind::Paths)
+                throw lt::Error(f.name + ": --manifold needs a paths file, this is a buffer file");
             const std::span<const lt::file::PathRecord> all(f.content.paths);
+            if (manifold) {
+                if (json) throw lt::Error("--manifold prints text only");
+                const auto& info = f.content.info;
+                const std::string scenePath =
+                    !manifoldScene.empty() ? manifoldScene
+                    : info.contains("scene") && info["scene"].is_object() ? info["scene"].value("path", std::string())
+                                                                          : std::string();
+                if (scenePath.empty()) throw lt::Error(f.name + ": names no scene; give it with --scene");
+                const auto scene = lt::loadScene(scenePath, lt::tool::parseDefines(defines));
+                lt::file::checkSceneHash(info, scene->contentHash, f.name, scenePath);
+                lt::printManifoldReport(std::cout, *scene, all, limit ? limit : 10);
+                return 0;
+            }
             if (!objOut.empty())
                 lt::writePathsObj(objOut, all.first(std::min(all.size(), limit ? limit : 10000)), f.name);
             const std::span<const lt::file::PathRecord> shown = all.first(std::min(all.size(), limit ? limit : 10));
@@ -533,7 +558,8 @@ int main(int argc, char** argv) {
             return 0;
         }
         if (fileOptions)
-            throw lt::Error("--paths, --limit, --obj and --histogram apply to lt files; " + file + " is not one");
+            throw lt::Error("--paths, --limit, --obj, --histogram, --manifold and --scene apply to lt files; " + file +
+                            " is not one");
         const auto scene = lt::loadScene(file, lt::tool::parseDefines(defines));
         const lt::SceneFeatures f = lt::analyzeScene(*scene);
         if (json)

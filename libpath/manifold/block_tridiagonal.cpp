@@ -8,14 +8,16 @@ namespace lt {
 Mat2 Mat2::operator*(const Mat2& o) const {
     Mat2 r;
     for (int i = 0; i < 2; ++i)
-        for (int j = 0; j < 2; ++j) r.m[i][j] = m[i][0] * o.m[0][j] + m[i][1] * o.m[1][j];
+        for (int j = 0; j < 2; ++j)
+            r.m[i][j] = m[i][0] * o.m[0][j] + m[i][1] * o.m[1][j];
     return r;
 }
 
 Mat2 Mat2::operator-(const Mat2& o) const {
     Mat2 r;
     for (int i = 0; i < 2; ++i)
-        for (int j = 0; j < 2; ++j) r.m[i][j] = m[i][j] - o.m[i][j];
+        for (int j = 0; j < 2; ++j)
+            r.m[i][j] = m[i][j] - o.m[i][j];
     return r;
 }
 

@@ -83,4 +83,11 @@ using Vec3 = Vec3d;
 // Reflect w (pointing away from the surface) about n.
 inline Vec3 reflect(const Vec3& w, const Vec3& n) { return 2.0 * dot(w, n) * n - w; }
 
+// The derivative of a normalized vector z / |z| for a change dz, given the unit vector and 1 / |z|:
+// (dz - zhat (zhat . dz)) / |z| (ALGORITHMS.md 1.5). Normal fields, directions toward a moving vertex
+// and half vectors all differentiate through it.
+inline Vec3 normalizedDerivative(const Vec3& unit, double invLength, const Vec3& dz) {
+    return (dz - unit * dot(unit, dz)) * invLength;
+}
+
 } // namespace lt

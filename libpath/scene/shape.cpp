@@ -1,6 +1,8 @@
 #include "scene/shape.h"
 
 #include <cmath>
+#include <tuple>
+#include <utility>
 
 #include "math/constants.h"
 #include "math/error.h"
@@ -13,13 +15,22 @@ namespace {
 
 Vec3 toD(const Vec3f& v) { return Vec3(v); }
 
-// Derivative of a normalized vector N/|N| given dN (the normal field of the surface is the
-// normalized interpolated normal, so its derivative must be of the normalized field).
-Vec3 normalizedDerivative(const Vec3& N, const Vec3& dN) {
-    const double len = length(N);
-    const Vec3 n = N / len;
-    return (dN - n * dot(n, dN)) / len;
-}
+// A chart (u, v) that is linear over a triangle, given by its values at the three vertices. The
+// derivatives of any other quantity linear over the triangle (position, interpolated normal) follow
+// from its vertex values by Cramer's rule on the edges to vertex 2 (pbrt-v3 Triangle::Intersect).
+struct TriangleChart {
+    Vec2 d02, d12; // c_0 - c_2, c_1 - c_2
+    double det = 0;
+
+    TriangleChart(const Vec2& c0, const Vec2& c1, const Vec2& c2)
+        : d02(c0 - c2), d12(c1 - c2), det(d02.x * d12.y - d02.y * d12.x) {}
+
+    // d/du, d/dv of the field with vertex values f0, f1, f2.
+    [[nodiscard]] std::pair<Vec3, Vec3> derivatives(const Vec3& f0, const Vec3& f1, const Vec3& f2) const {
+        const Vec3 f02 = f0 - f2, f12 = f1 - f2;
+        return {(f02 * d12.y - f12 * d02.y) / det, (f12 * d02.x - f02 * d12.x) / det};
+    }
+};
 
 } // namespace
 
@@ -140,20 +151,26 @@ SurfaceInteraction Shape::surfaceAt(uint32_t prim, const Vec2& coords) const {
             uv1 = Vec2(mesh_.uvs[tri[1]]);
             uv2 = Vec2(mesh_.uvs[tri[2]]);
         }
+        // Kept as stored even where it is degenerate: textures read si.uv, not the chart below.
         si.uv = uv0 * b0 + uv1 * b1 + uv2 * b2;
-        const Vec2 duv02 = uv0 - uv2, duv12 = uv1 - uv2;
-        const Vec3 dp02 = p0 - p2, dp12 = p1 - p2;
-        const double det = duv02.x * duv12.y - duv02.y * duv12.x;
-        const bool degenerateUv = std::abs(det) < 1e-12;
-        if (!degenerateUv) {
-            si.dpdu = (dp02 * duv12.y - dp12 * duv02.y) / det;
-            si.dpdv = (dp12 * duv02.x - dp02 * duv12.x) / det;
+        // The chart of dp/du, dp/dv, dn/du, dn/dv: the uvs, unless they do not span the triangle
+        // (meshes with every uv at 0, as veach-bidir's egg). Then, as pbrt-v3, an orthonormal frame
+        // (s, t) of the triangle's plane built from ng: its chart coordinates are the vertex positions
+        // in that frame (relative to p2, for precision far from the origin), so dp/du = s, dp/dv = t and
+        // the normal's derivatives come from the same formula as with uvs. The manifold walks need them
+        // (ALGORITHMS.md 1.5: the curvature part of the constraint Jacobian).
+        TriangleChart chart(uv0, uv1, uv2);
+        bool uvChart = std::abs(chart.det) >= 1e-12;
+        if (uvChart) {
+            std::tie(si.dpdu, si.dpdv) = chart.derivatives(p0, p1, p2);
+            uvChart = lengthSquared(cross(si.dpdu, si.dpdv)) > 0;
         }
-        if (degenerateUv || !(lengthSquared(cross(si.dpdu, si.dpdv)) > 0)) {
+        if (!uvChart) {
             const Frame f = Frame::fromNormal(si.ng);
+            const auto inPlane = [&](const Vec3& p) { return Vec2(dot(p - p2, f.s), dot(p - p2, f.t)); };
+            chart = TriangleChart(inPlane(p0), inPlane(p1), Vec2());
             si.dpdu = f.s;
             si.dpdv = f.t;
-            si.uv = {b1, b2};
         }
         Vec3 ns = si.ng;
         if (!mesh_.normals.empty()) {
@@ -163,13 +180,13 @@ SurfaceInteraction Shape::surfaceAt(uint32_t prim, const Vec2& coords) const {
                 // pointAt already turned ng to the side of N (and flipped it with flipNormals).
                 const double sign = flip_ ? -1.0 : 1.0;
                 ns = normalize(N) * sign;
-                if (!degenerateUv) {
-                    const Vec3 dn02 = n0 - n2, dn12 = n1 - n2;
-                    si.dndu = normalizedDerivative(N, (dn02 * duv12.y - dn12 * duv02.y) / det) * sign;
-                    si.dndv = normalizedDerivative(N, (dn12 * duv02.x - dn02 * duv12.x) / det) * sign;
+                if (chart.det != 0) { // zero only on a triangle without area
+                    const auto [dNdu, dNdv] = chart.derivatives(n0, n1, n2);
+                    // The normal field is the NORMALIZED interpolated normal: differentiate that.
+                    const double invLength = 1 / length(N);
+                    si.dndu = normalizedDerivative(N * invLength, invLength, dNdu) * sign;
+                    si.dndv = normalizedDerivative(N * invLength, invLength, dNdv) * sign;
                 }
-                // Without a uv chart the normal field's derivatives are not meaningful: left flat (C^0
-                // meshes without uvs are rare).
             }
         }
         si.shading = Frame::fromNormalTangent(ns, si.dpdu);

@@ -1,0 +1,61 @@
+#include "manifold/manifold_vertex.h"
+
+#include "manifold/block_tridiagonal.h"
+
+namespace lt {
+
+std::optional<ManifoldVertex> manifoldVertex(const SurfaceInteraction& si) {
+    // Gram-Schmidt: u = a dp/du, v = (dp/dv - (dp/dv.u) a dp/du) / |...|; the normal derivatives follow
+    // the same linear map (ME footnote 2).
+    const double lu = length(si.dpdu);
+    if (!(lu > 0) || !std::isfinite(lu)) return std::nullopt;
+    const double a = 1 / lu;
+    const Vec3 u = si.dpdu * a;
+    const double proj = dot(si.dpdv, u);
+    const Vec3 vRest = si.dpdv - u * proj;
+    const double lv = length(vRest);
+    if (!(lv > 1e-12 * length(si.dpdv)) || !std::isfinite(lv)) return std::nullopt;
+    ManifoldVertex v;
+    v.p = si.p;
+    v.ng = si.ng;
+    v.n = si.shading.n;
+    v.dpdu = u;
+    v.dpdv = vRest / lv;
+    v.dndu = si.dndu * a;
+    v.dndv = (si.dndv - si.dndu * (proj * a)) / lv;
+    v.shape = si.shape;
+    v.prim = si.prim;
+    v.coords = si.coords;
+    v.magnitude = si.magnitude;
+    return v;
+}
+
+ManifoldVertex planeVertex(const Vec3& p, const Vec3& normal) {
+    const Frame f = Frame::fromNormal(normal);
+    ManifoldVertex v;
+    v.p = p;
+    v.ng = v.n = normal;
+    v.dpdu = f.s;
+    v.dpdv = f.t;
+    return v;
+}
+
+ManifoldVertex pointVertex(const Vec3& p, const Vec3& axis) {
+    ManifoldVertex v = planeVertex(p, axis);
+    v.ng = Vec3();
+    return v;
+}
+
+std::optional<Vec3> microfacetNormal(const ManifoldVertex& v, const Vec2& offset) {
+    const Vec3 s = v.s(), t = v.t();
+    const Mat2 gram{{{{dot(s, s), dot(s, t)}, {dot(s, t), dot(t, t)}}}};
+    const auto inv = gram.inverse();
+    if (!inv) return std::nullopt;
+    const auto ab = *inv * std::array<double, 2>{offset.x, offset.y};
+    const Vec3 w = s * ab[0] + t * ab[1];
+    const double w2 = lengthSquared(w);
+    if (!(w2 < 1)) return std::nullopt;
+    return w + v.n * std::sqrt(1 - w2);
+}
+
+} // namespace lt

@@ -1,0 +1,147 @@
+#include "manifold/path_chains.h"
+
+#include <iomanip>
+
+#include "bsdf/bsdf.h"
+#include "manifold/specular_constraint.h"
+
+namespace lt {
+
+namespace {
+
+Vec3 toVec(const std::array<double, 3>& a) { return {a[0], a[1], a[2]}; }
+
+// A stored vertex on its surface again, or a point (camera, point light) with the chart of the plane
+// facing its neighbour.
+std::optional<ManifoldVertex> rebuild(const Scene& scene, const file::VertexRecord& r, const Vec3& neighbour) {
+    if (r.shape < 0 || size_t(r.shape) >= scene.shapes.size()) {
+        const Vec3 p = toVec(r.p), d = neighbour - p;
+        if (!(lengthSquared(d) > 0)) return std::nullopt;
+        return pointVertex(p, normalize(d));
+    }
+    const Shape& shape = scene.shapes[size_t(r.shape)];
+    if (r.prim >= shape.primitiveCount()) return std::nullopt;
+    SurfaceInteraction si = shape.surfaceAt(r.prim, {r.coords[0], r.coords[1]});
+    si.shape = r.shape;
+    return manifoldVertex(si);
+}
+
+bool isDelta(const file::VertexRecord& r) { return r.kind == file::VertexKind::Surface && (r.lobe & LobeDelta); }
+
+} // namespace
+
+std::vector<StoredChain> specularChains(const Scene& scene, const file::PathRecord& path) {
+    std::vector<StoredChain> out;
+    const auto& V = path.vertices;
+    for (size_t a = 0; a + 2 < V.size(); ++a) {
+        if (isDelta(V[a]) || !isDelta(V[a + 1])) continue;
+        size_t b = a + 1;
+        while (b < V.size() && isDelta(V[b]))
+            ++b;
+        if (b == V.size()) break; // the path ends in a delta vertex: no non-specular endpoint
+        StoredChain c;
+        c.first = a;
+        c.last = b;
+        for (size_t i = a; i <= b; ++i) {
+            const auto v = rebuild(scene, V[i], toVec(V[i == a ? a + 1 : i - 1].p));
+            if (!v) {
+                c.chain.clear();
+                break;
+            }
+            c.chain.push_back(*v);
+        }
+        for (size_t j = 1; !c.chain.empty() && j + 1 < c.chain.size(); ++j) {
+            const int bsdf = scene.shapes[size_t(c.chain[j].shape)].bsdf;
+            const auto eta = bsdf >= 0 ? scene.bsdfs[size_t(bsdf)].bsdf->eta() : std::nullopt;
+            if (!setScattering(c.chain[j], c.chain[j - 1], c.chain[j + 1], eta, true)) c.chain.clear();
+        }
+        out.push_back(std::move(c));
+        a = b - 1;
+    }
+    return out;
+}
+
+void checkChain(const Scene& scene, StoredChain& c, WalkStatistics& stats, double relativeStep,
+                const WalkSettings& settings) {
+    if (c.chain.empty()) return;
+    c.G = generalizedGeometryTerm(c.chain);
+    c.moving = c.chain.back().onSurface() ? WalkEnd::Last : WalkEnd::First;
+    const bool last = c.moving == WalkEnd::Last;
+    const ManifoldVertex end = last ? c.chain.back() : c.chain.front();
+    if (!end.onSurface()) return;
+    // The stored vertices come from float intersections, on the manifold only to about 1e-7 relative,
+    // amplified along the chain. Re-trace the chain from its pinned end (ending on the tangent plane of
+    // the moving end) and walk it to the stored endpoint: the walk "from the path to itself", whose
+    // result is the exact chain the other walks start from and must return to.
+    const ManifoldChain oriented = last ? c.chain : reversed(c.chain);
+    const auto traced = propagateChain(scene, oriented, oriented[1].p, planeVertex(end.p, end.ng),
+                                       settings.relativeTolerance * scene.bounds.diagonal());
+    if (traced.failure != WalkFailure::None) {
+        c.exact = {traced.failure, 0, {}};
+        return;
+    }
+    c.exact = walkManifold(scene, traced.chain, end, WalkEnd::Last, settings);
+    if (!c.exact.converged()) return;
+    c.chain = last ? c.exact.chain : reversed(c.exact.chain);
+    const ManifoldVertex& inner = last ? c.chain[c.chain.size() - 2] : c.chain[1];
+    // A nearby point of the same surface: along the chart's diagonal, found by a ray from the chain's
+    // neighbouring vertex so that it is a real surface point.
+    const Vec3 aim = end.p + (end.dpdu + end.dpdv) * (relativeStep * scene.bounds.diagonal() / std::sqrt(2.0));
+    const auto si = scene.intersect(spawnRay(inner.endpoint(), normalize(aim - inner.p)));
+    if (!si || si->shape != end.shape) return;
+    const auto target = manifoldVertex(*si);
+    if (!target) return;
+    c.perturbed = walkManifold(scene, c.chain, *target, c.moving, settings);
+    if (c.perturbed->converged()) {
+        c.reverse = reverseWalk(scene, c.chain, c.perturbed->chain, c.moving, settings);
+        // A walk that does not come back is a failed proposal in MCMC (ME section 5.1 step 4).
+        stats.add(c.reverse->converged() ? *c.perturbed : *c.reverse, c.chain.size());
+    } else {
+        stats.add(*c.perturbed, c.chain.size());
+    }
+}
+
+void printManifoldReport(std::ostream& out, const Scene& scene, std::span<const file::PathRecord> paths,
+                         size_t listed) {
+    WalkStatistics stats;
+    size_t withChains = 0, chains = 0, rebuilt = 0, exactConverged = 0;
+    const auto outcome = [](const WalkResult& w) {
+        return w.converged() ? "converged in " + std::to_string(w.iterations)
+                             : "failed (" + std::string(walkFailureName(w.failure)) + ")";
+    };
+    for (size_t i = 0; i < paths.size(); ++i) {
+        auto found = specularChains(scene, paths[i]);
+        if (found.empty()) continue;
+        ++withChains;
+        const bool show = withChains <= listed;
+        if (show) out << "path " << i << " (s=" << paths[i].s << ", t=" << paths[i].t << ")\n";
+        for (StoredChain& c : found) {
+            ++chains;
+            checkChain(scene, c, stats);
+            if (!c.chain.empty()) {
+                ++rebuilt;
+                exactConverged += c.exact.converged();
+            }
+            if (!show) continue;
+            out << "  chain vertices " << c.first << ".." << c.last << ": ";
+            if (c.chain.empty()) {
+                out << "could not be rebuilt on this scene\n";
+                continue;
+            }
+            out << "G = " << (c.G ? std::to_string(*c.G) : std::string("singular")) << ", walk of the "
+                << (c.moving == WalkEnd::Last ? "eye" : "light") << " end to itself: " << outcome(c.exact);
+            if (c.perturbed) {
+                out << "; to a nearby point: " << outcome(*c.perturbed);
+                if (c.reverse) out << ", back: " << outcome(*c.reverse);
+            }
+            out << "\n";
+        }
+    }
+    if (withChains > listed) out << "(" << withChains - listed << " more paths with chains not listed)\n";
+    out << "paths " << paths.size() << ", with specular chains " << withChains << ", chains " << chains << " (rebuilt "
+        << rebuilt << "), walks to themselves converged " << exactConverged << "/" << rebuilt << "\n";
+    out << "walks to a nearby point (relative step 1e-3 of the scene diagonal, reverse walk included):\n";
+    stats.print(out);
+}
+
+} // namespace lt

@@ -1,0 +1,436 @@
+// reconstruct/: the screened Poisson reconstruction (ALGORITHMS.md 7 "Tests"): exact recovery from exact
+// gradients, Ceres against an Eigen sparse solve of the normal equations, unbiasedness of L2 over many
+// noise draws against the variance the linear solve implies, L1's robustness to outliers, the offset
+// equivariance, stiff cases, the direct plane, and the messages for bad input.
+#include <Eigen/Dense>
+#include <Eigen/Sparse>
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <functional>
+#include <limits>
+
+#include "math/error.h"
+#include "math/rng.h"
+#include "reconstruct/gradient_image.h"
+#include "reconstruct/screened_poisson.h"
+
+using namespace lt;
+
+namespace {
+
+// A smooth RGB image, values about 0.5 .. 2, different in each channel.
+RgbPlanes smoothImage(uint32_t w, uint32_t h) {
+    RgbPlanes img;
+    for (size_t c = 0; c < 3; ++c) {
+        img[c].resize(size_t(w) * h);
+        for (uint32_t y = 0; y < h; ++y)
+            for (uint32_t x = 0; x < w; ++x)
+                img[c][size_t(y) * w + x] =
+                    float(1.2 + 0.5 * std::sin(0.21 * x + 0.5 * c) * std::cos(0.17 * y - 0.3 * c) + 0.01 * x);
+    }
+    return img;
+}
+
+// The gradient image of `truth` with exact primal and gradients.
+GradientImage exactInput(const RgbPlanes& truth, uint32_t w, uint32_t h) {
+    GradientImage im;
+    im.width = w;
+    im.height = h;
+    im.primal = truth;
+    forwardDifferences(truth, w, h, im.dx, im.dy);
+    return im;
+}
+
+double gaussian(Pcg32& rng) {
+    const double u = 1 - rng.nextDouble(), v = rng.nextDouble();
+    return std::sqrt(-2 * std::log(u)) * std::cos(2 * M_PI * v);
+}
+
+void addNoise(GradientImage& im, Pcg32& rng, double sigmaPrimal, double sigmaGradient) {
+    for (size_t c = 0; c < 3; ++c)
+        for (size_t p = 0; p < im.pixels(); ++p) {
+            im.primal[c][p] += float(sigmaPrimal * gaussian(rng));
+            im.dx[c][p] += float(sigmaGradient * gaussian(rng));
+            im.dy[c][p] += float(sigmaGradient * gaussian(rng));
+        }
+}
+
+file::Buffer solve(const GradientImage& im, ReconstructNorm norm, double alpha,
+                   PoissonSolver solver = PoissonSolver::Auto) {
+    ReconstructSettings s;
+    s.norm = norm;
+    s.alpha = alpha;
+    s.solver = solver;
+    ReconstructStatistics stats;
+    return reconstructScreenedPoisson(im, s, stats);
+}
+
+double maxRelativeError(const file::Buffer& out, const RgbPlanes& truth) {
+    double worst = 0;
+    for (size_t c = 0; c < 3; ++c)
+        for (size_t p = 0; p < truth[c].size(); ++p)
+            worst = std::max(worst, std::abs(double(out.planes[c][p]) - truth[c][p]) /
+                                        std::max(1.0, std::abs(double(truth[c][p]))));
+    return worst;
+}
+
+double rmse(const file::Buffer& out, const RgbPlanes& truth) {
+    double sum = 0;
+    for (size_t c = 0; c < 3; ++c)
+        for (size_t p = 0; p < truth[c].size(); ++p)
+            sum += std::pow(double(out.planes[c][p]) - truth[c][p], 2);
+    return std::sqrt(sum / (3.0 * truth[0].size()));
+}
+
+bool allFinite(const file::Buffer& b) {
+    for (const auto& plane : b.planes)
+        for (float v : plane)
+            if (!std::isfinite(v)) return false;
+    return true;
+}
+
+// The forward-difference operators as sparse matrices, one row per difference inside the image (the
+// last column of Dx and last row of Dy are absent, ALGORITHMS.md 7 "Inputs").
+struct Operators {
+    Eigen::SparseMatrix<double> Dx, Dy;
+    std::vector<size_t> xRows, yRows; // the pixel each row belongs to
+};
+Operators differenceOperators(uint32_t w, uint32_t h) {
+    Operators op;
+    std::vector<Eigen::Triplet<double>> tx, ty;
+    for (uint32_t y = 0; y < h; ++y)
+        for (uint32_t x = 0; x < w; ++x) {
+            const int p = int(y * w + x);
+            if (x + 1 < w) {
+                const int r = int(op.xRows.size());
+                tx.emplace_back(r, p, -1.0);
+                tx.emplace_back(r, p + 1, 1.0);
+                op.xRows.push_back(size_t(p));
+            }
+            if (y + 1 < h) {
+                const int r = int(op.yRows.size());
+                ty.emplace_back(r, p, -1.0);
+                ty.emplace_back(r, p + int(w), 1.0);
+                op.yRows.push_back(size_t(p));
+            }
+        }
+    const int n = int(w * h);
+    op.Dx.resize(int(op.xRows.size()), n);
+    op.Dy.resize(int(op.yRows.size()), n);
+    op.Dx.setFromTriplets(tx.begin(), tx.end());
+    op.Dy.setFromTriplets(ty.begin(), ty.end());
+    return op;
+}
+
+// The normal equations of the L2 problem, (alpha^2 1 + Dx^T Dx + Dy^T Dy) I = alpha^2 P + Dx^T Gx + Dy^T Gy
+// (ALGORITHMS.md 7), solved by Eigen's sparse LDL^T: an independent reference for Ceres.
+RgbPlanes eigenReference(const GradientImage& im, double alpha) {
+    const Operators op = differenceOperators(im.width, im.height);
+    const int n = int(im.pixels());
+    Eigen::SparseMatrix<double> I(n, n);
+    I.setIdentity();
+    const Eigen::SparseMatrix<double> A = alpha * alpha * I + Eigen::SparseMatrix<double>(op.Dx.transpose() * op.Dx) +
+                                          Eigen::SparseMatrix<double>(op.Dy.transpose() * op.Dy);
+    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(A);
+    REQUIRE(ldlt.info() == Eigen::Success);
+    RgbPlanes out;
+    for (size_t c = 0; c < 3; ++c) {
+        Eigen::VectorXd P(n), gx(op.Dx.rows()), gy(op.Dy.rows());
+        for (int p = 0; p < n; ++p)
+            P[p] = im.primal[c][size_t(p)];
+        for (int r = 0; r < gx.size(); ++r)
+            gx[r] = im.dx[c][op.xRows[size_t(r)]];
+        for (int r = 0; r < gy.size(); ++r)
+            gy[r] = im.dy[c][op.yRows[size_t(r)]];
+        const Eigen::VectorXd x = ldlt.solve(alpha * alpha * P + op.Dx.transpose() * gx + op.Dy.transpose() * gy);
+        out[c].assign(x.data(), x.data() + n);
+    }
+    return out;
+}
+
+std::string errorOf(const std::function<void()>& f) {
+    try {
+        f();
+    } catch (const Error& e) {
+        return e.what();
+    }
+    return "(no error)";
+}
+
+} // namespace
+
+TEST_CASE("exact gradients and primal give back the image (L2, L1, both solvers)", "[reconstruct]") {
+    const uint32_t w = 40, h = 30;
+    const RgbPlanes truth = smoothImage(w, h);
+    const GradientImage im = exactInput(truth, w, h);
+    for (auto norm : {ReconstructNorm::L2, ReconstructNorm::L1})
+        for (auto solver : {PoissonSolver::SparseNormalCholesky, PoissonSolver::Cgnr}) {
+            INFO("norm " << normName(norm) << ", solver " << int(solver));
+            CHECK(maxRelativeError(solve(im, norm, 0.2, solver), truth) < 1e-4);
+        }
+}
+
+TEST_CASE("the image comes back from exact gradients when the primal only fixes the constant", "[reconstruct]") {
+    // Primal = truth + zero-mean noise, alpha = 1e-3: the solution is truth + (alpha^2 + L)^-1 alpha^2 n
+    // with L the grid Laplacian; n has no constant component, and L's smallest non-zero eigenvalue on a
+    // 16-pixel side is 2 (1 - cos(pi / 16)) = 0.038, so the noise comes through damped by at least
+    // 1e-6 / 0.038 = 2.6e-5: about 3e-6 for noise of 0.1, far below 1e-4.
+    const uint32_t w = 16, h = 16;
+    const RgbPlanes truth = smoothImage(w, h);
+    GradientImage im = exactInput(truth, w, h);
+    Pcg32 rng(3, 1);
+    for (auto& plane : im.primal) {
+        std::vector<double> n(plane.size());
+        double mean = 0;
+        for (auto& v : n) {
+            v = 0.1 * gaussian(rng);
+            mean += v / double(n.size());
+        }
+        for (size_t p = 0; p < plane.size(); ++p)
+            plane[p] += float(n[p] - mean);
+    }
+    CHECK(maxRelativeError(solve(im, ReconstructNorm::L2, 1e-3), truth) < 1e-4);
+}
+
+TEST_CASE("Ceres solves the normal equations: same as Eigen's sparse LDL^T on 64x64", "[reconstruct]") {
+    const uint32_t w = 64, h = 64;
+    GradientImage im = exactInput(smoothImage(w, h), w, h);
+    Pcg32 rng(5, 2);
+    addNoise(im, rng, 0.3, 0.1);
+    for (double alpha : {0.2, 1.0}) {
+        const RgbPlanes ref = eigenReference(im, alpha);
+        INFO("alpha " << alpha);
+        // Sparse Cholesky is exact up to the float output (relative 6e-8).
+        CHECK(maxRelativeError(solve(im, ReconstructNorm::L2, alpha, PoissonSolver::SparseNormalCholesky), ref) < 1e-6);
+        // CGNR: at alpha 0.2 the condition number is (0.04 + 8) / 0.04 = 201, so 500 CG steps reduce the
+        // error by far more than 1e-4.
+        CHECK(maxRelativeError(solve(im, ReconstructNorm::L2, alpha, PoissonSolver::Cgnr), ref) < 1e-4);
+    }
+}
+
+TEST_CASE("L2 is unbiased: the mean over 1000 noise draws is the truth within 5 standard errors", "[reconstruct]") {
+    const uint32_t w = 12, h = 10;
+    const double alpha = 0.2, sigmaP = 0.2, sigmaG = 0.05;
+    const int draws = 1000;
+    const RgbPlanes truth = smoothImage(w, h);
+    const int n = int(w * h);
+    // The solution is I = A^-1 (alpha^2 P + Dx^T Gx + Dy^T Gy) with A = alpha^2 1 + Dx^T Dx + Dy^T Dy; with
+    // independent noise of variances sigmaP^2 on P and sigmaG^2 on G its covariance is
+    // A^-1 (alpha^4 sigmaP^2 1 + sigmaG^2 (Dx^T Dx + Dy^T Dy)) A^-1, whose diagonal gives each pixel's
+    // standard error sqrt(var / draws).
+    const Operators op = differenceOperators(w, h);
+    const Eigen::MatrixXd L = Eigen::MatrixXd(op.Dx.transpose() * op.Dx) + Eigen::MatrixXd(op.Dy.transpose() * op.Dy);
+    const Eigen::MatrixXd Ainv = (alpha * alpha * Eigen::MatrixXd::Identity(n, n) + L).inverse();
+    const Eigen::MatrixXd cov =
+        Ainv * (std::pow(alpha, 4) * sigmaP * sigmaP * Eigen::MatrixXd::Identity(n, n) + sigmaG * sigmaG * L) * Ainv;
+
+    RgbPlanes sum;
+    for (auto& s : sum)
+        s.assign(size_t(n), 0.0f);
+    std::array<std::vector<double>, 3> total;
+    for (auto& t : total)
+        t.assign(size_t(n), 0.0);
+    Pcg32 rng(11, 3);
+    for (int d = 0; d < draws; ++d) {
+        GradientImage im = exactInput(truth, w, h);
+        addNoise(im, rng, sigmaP, sigmaG);
+        const file::Buffer out = solve(im, ReconstructNorm::L2, alpha);
+        for (size_t c = 0; c < 3; ++c)
+            for (size_t p = 0; p < size_t(n); ++p)
+                total[c][p] += out.planes[c][p];
+    }
+    double worstZ = 0;
+    for (size_t c = 0; c < 3; ++c)
+        for (int p = 0; p < n; ++p) {
+            const double mean = total[c][size_t(p)] / draws;
+            const double standardError = std::sqrt(cov(p, p) / draws);
+            worstZ = std::max(worstZ, std::abs(mean - truth[c][size_t(p)]) / standardError);
+        }
+    // 360 correlated z-scores: the chance that any exceeds 5 is below 360 * 5.7e-7 = 2e-4.
+    CHECK(worstZ < 5);
+}
+
+TEST_CASE("L1 resists sparse huge gradient outliers that ruin L2", "[reconstruct]") {
+    const uint32_t w = 32, h = 32;
+    const RgbPlanes truth = smoothImage(w, h);
+    GradientImage im = exactInput(truth, w, h);
+    Pcg32 rng(7, 4);
+    addNoise(im, rng, 0.05, 0.01);
+    // 1% of the pixels get a gradient of +-1e6 in all channels (a firefly in a gradient estimate).
+    for (size_t p = 0; p < im.pixels(); ++p)
+        if (rng.nextDouble() < 0.01) {
+            auto& g = rng.nextDouble() < 0.5 ? im.dx : im.dy;
+            const float v = rng.nextDouble() < 0.5 ? -1e6f : 1e6f;
+            for (auto& plane : g)
+                plane[p] = v;
+        }
+    const file::Buffer l2 = solve(im, ReconstructNorm::L2, 0.2), l1 = solve(im, ReconstructNorm::L1, 0.2);
+    CHECK(allFinite(l1));
+    CHECK(allFinite(l2));
+    const double e1 = rmse(l1, truth), e2 = rmse(l2, truth);
+    INFO("rmse L1 " << e1 << ", L2 " << e2);
+    // L2 spreads each 1e6 over its neighbourhood (errors of order 1e4 and more); L1 stays near the noise
+    // level of the inputs (0.05 on the primal).
+    CHECK(e2 > 1e3);
+    CHECK(e1 < 0.1);
+}
+
+TEST_CASE("a constant offset of the primal shifts the result by that offset", "[reconstruct]") {
+    // D (I + c) = D I and alpha (I + c - (P + c)) = alpha (I - P): both objectives, and every IRLS weight,
+    // are unchanged by the shift, so the minimizer moves by c.
+    const uint32_t w = 20, h = 14;
+    GradientImage im = exactInput(smoothImage(w, h), w, h);
+    Pcg32 rng(9, 5);
+    addNoise(im, rng, 0.2, 0.05);
+    GradientImage shifted = im;
+    const float offset = 3;
+    for (auto& plane : shifted.primal)
+        for (auto& v : plane)
+            v += offset;
+    for (auto norm : {ReconstructNorm::L2, ReconstructNorm::L1}) {
+        INFO("norm " << normName(norm));
+        const file::Buffer a = solve(im, norm, 0.2), b = solve(shifted, norm, 0.2);
+        double worst = 0;
+        for (size_t c = 0; c < 3; ++c)
+            for (size_t p = 0; p < im.pixels(); ++p)
+                worst = std::max(worst, std::abs(double(b.planes[c][p]) - a.planes[c][p] - offset));
+        // Float output of values up to 5: rounding 5 * 6e-8 per value; the solves themselves are exact.
+        CHECK(worst < 1e-5);
+    }
+}
+
+TEST_CASE("stiff inputs: alpha 1e-4 .. 10, outliers of 1e6, constant, black, 1x1, 1xN and Nx1 images",
+          "[reconstruct]") {
+    SECTION("alpha over five decades with outliers: always finite") {
+        const uint32_t w = 24, h = 16;
+        GradientImage im = exactInput(smoothImage(w, h), w, h);
+        im.dx[1][37] = 1e6f;
+        im.dy[0][100] = -1e6f;
+        for (double alpha : {1e-4, 1e-2, 1.0, 10.0})
+            for (auto norm : {ReconstructNorm::L2, ReconstructNorm::L1}) {
+                INFO("alpha " << alpha << ", norm " << normName(norm));
+                CHECK(allFinite(solve(im, norm, alpha)));
+            }
+    }
+    SECTION("constant and black images come back exactly") {
+        for (float value : {0.0f, 7.5f})
+            for (double alpha : {1e-4, 10.0})
+                for (auto norm : {ReconstructNorm::L2, ReconstructNorm::L1}) {
+                    RgbPlanes flat;
+                    for (auto& p : flat)
+                        p.assign(9 * 7, value);
+                    INFO("value " << value << ", alpha " << alpha << ", norm " << normName(norm));
+                    CHECK(maxRelativeError(solve(exactInput(flat, 9, 7), norm, alpha), flat) < 1e-6);
+                }
+    }
+    SECTION("degenerate sizes") {
+        for (auto [w, h] : {std::pair{1u, 1u}, std::pair{1u, 17u}, std::pair{17u, 1u}})
+            for (auto norm : {ReconstructNorm::L2, ReconstructNorm::L1}) {
+                INFO(w << "x" << h << ", norm " << normName(norm));
+                const RgbPlanes truth = smoothImage(w, h);
+                CHECK(maxRelativeError(solve(exactInput(truth, w, h), norm, 1e-4), truth) < 1e-4);
+                // 1x1: no difference at all, the result is the primal whatever alpha.
+                GradientImage noisy = exactInput(truth, w, h);
+                Pcg32 rng(w, h);
+                addNoise(noisy, rng, 0.5, 0.5);
+                const file::Buffer out = solve(noisy, norm, 1e-4);
+                CHECK(allFinite(out));
+                if (w * h == 1)
+                    for (size_t c = 0; c < 3; ++c)
+                        CHECK(out.planes[c][0] == Approx(noisy.primal[c][0]).margin(1e-6));
+            }
+    }
+}
+
+TEST_CASE("the direct plane stays out of the solve and is added back", "[reconstruct]") {
+    const uint32_t w = 10, h = 8;
+    GradientImage im = exactInput(smoothImage(w, h), w, h);
+    Pcg32 rng(13, 6);
+    addNoise(im, rng, 0.2, 0.05);
+    const file::Buffer without = solve(im, ReconstructNorm::L2, 0.2);
+    RgbPlanes direct;
+    for (auto& plane : direct) {
+        plane.resize(im.pixels());
+        for (auto& v : plane)
+            v = rng.nextDouble() < 0.1 ? 50.0f : 0.0f; // a few bright emitter pixels
+    }
+    im.direct = direct;
+    const file::Buffer with = solve(im, ReconstructNorm::L2, 0.2);
+    for (size_t c = 0; c < 3; ++c)
+        for (size_t p = 0; p < im.pixels(); ++p)
+            CHECK(with.planes[c][p] == Approx(without.planes[c][p] + direct[c][p]).margin(1e-5));
+}
+
+TEST_CASE("statistics of a reconstruction", "[reconstruct]") {
+    const uint32_t w = 12, h = 9;
+    GradientImage im = exactInput(smoothImage(w, h), w, h);
+    Pcg32 rng(17, 7);
+    addNoise(im, rng, 0.2, 0.05);
+    ReconstructSettings s;
+    ReconstructStatistics stats;
+    (void)reconstructScreenedPoisson(im, s, stats);
+    CHECK(stats.norm == "l2");
+    CHECK(stats.solves == 3);
+    CHECK(stats.solverIterations == 3); // one Gauss-Newton step per channel solves a linear problem
+    CHECK(stats.irlsIterations == 0);
+    CHECK(stats.solver == "SPARSE_NORMAL_CHOLESKY");
+    CHECK(stats.finalCost < stats.initialCost);
+    s.norm = ReconstructNorm::L1;
+    s.irlsIterations = 5;
+    (void)reconstructScreenedPoisson(im, s, stats);
+    CHECK(stats.norm == "l1");
+    CHECK(stats.irlsIterations == 5);
+    CHECK(stats.solves == 3 * 6); // the L2 start, then one per reweighting step
+    CHECK(stats.finalCost < stats.initialCost);
+}
+
+TEST_CASE("bad input and settings: one message naming the file and the problem", "[reconstruct]") {
+    const uint32_t w = 4, h = 3;
+    const RgbPlanes truth = smoothImage(w, h);
+    file::Buffer b;
+    b.width = w;
+    b.height = h;
+    const char* rgb[3] = {"R", "G", "B"};
+    for (const char* layer : {"primal", "dx", "dy"})
+        for (size_t c = 0; c < 3; ++c) {
+            b.channels.push_back(std::string(layer) + "." + rgb[c]);
+            b.planes.push_back(truth[c]);
+        }
+    CHECK_NOTHROW(gradientImageFromBuffer(b, "in.lts"));
+    CHECK_FALSE(gradientImageFromBuffer(b, "in.lts").direct.has_value());
+
+    file::Buffer nan = b;
+    nan.planes[4][5] = std::numeric_limits<float>::quiet_NaN(); // dx.G at (1, 1)
+    CHECK(errorOf([&] { (void)gradientImageFromBuffer(nan, "in.lts"); }) ==
+          "in.lts: channel dx.G is NaN at pixel (1, 1)");
+    file::Buffer inf = b;
+    inf.planes[8][11] = std::numeric_limits<float>::infinity();
+    CHECK(errorOf([&] { (void)gradientImageFromBuffer(inf, "in.lts"); }) ==
+          "in.lts: channel dy.B is infinite at pixel (3, 2)");
+
+    file::Buffer missing = b;
+    missing.channels.resize(6);
+    missing.planes.resize(6);
+    CHECK(errorOf([&] { (void)gradientImageFromBuffer(missing, "in.exr"); }) ==
+          "in.exr: no layer 'dy' (channels dy.R/G/B); it has primal.R, primal.G, primal.B, dx.R, dx.G, dx.B");
+    file::Buffer partial = b;
+    partial.channels.push_back("direct.R");
+    partial.planes.push_back(truth[0]);
+    CHECK(errorOf([&] { (void)gradientImageFromBuffer(partial, "in.lts"); }) ==
+          "in.lts: layer 'direct' is incomplete: no channel direct.G, direct.B");
+
+    // Separate files: plain R, G, B per file; a size mismatch names the file that differs.
+    const file::Buffer p = rgbBuffer(w, h, truth), small = rgbBuffer(2, 2, smoothImage(2, 2));
+    CHECK_NOTHROW(gradientImageFromLayers({&p, "p.exr"}, {&p, "dx.exr"}, {&p, "dy.exr"}, std::nullopt));
+    CHECK(errorOf([&] {
+              (void)gradientImageFromLayers({&p, "p.exr"}, {&small, "dx.exr"}, {&p, "dy.exr"}, std::nullopt);
+          }) == "dx.exr: 2x2 does not match the primal p.exr (4x3)");
+
+    const GradientImage im = gradientImageFromBuffer(b, "in.lts");
+    ReconstructStatistics stats;
+    for (double alpha : {0.0, -1.0, std::numeric_limits<double>::quiet_NaN()}) {
+        ReconstructSettings s;
+        s.alpha = alpha;
+        CHECK_THROWS_AS(reconstructScreenedPoisson(im, s, stats), Error);
+    }
+}

@@ -1,0 +1,177 @@
+// lt-reconstruct: the last stage of gradient-domain rendering, a screened Poisson reconstruction (L2 or
+// L1) of an image from its noisy primal and noisy gradients, solved with Ceres (ALGORITHMS.md 7).
+#include <filesystem>
+#include <iostream>
+#include <optional>
+#include <thread>
+
+#include "common/info.h"
+#include "common/progress.h"
+#include "common/tool.h"
+#include "formats/ltfile.h"
+#include "image/buffer_source.h"
+#include "image/image_io.h"
+#include "reconstruct/gradient_image.h"
+#include "reconstruct/screened_poisson.h"
+
+namespace {
+
+bool isExrName(const std::string& path) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    for (auto& ch : ext)
+        ch = char(std::tolower(static_cast<unsigned char>(ch)));
+    return ext == ".exr";
+}
+
+nlohmann::json toJson(const lt::ReconstructStatistics& s) {
+    return {{"norm", s.norm},
+            {"alpha", s.alpha},
+            {"irls_iterations", s.irlsIterations},
+            {"solves", s.solves},
+            {"iterations", s.solverIterations},
+            {"linear_iterations", s.linearIterations},
+            {"initial_cost", s.initialCost},
+            {"final_cost", s.finalCost},
+            {"seconds", s.seconds},
+            {"solver", s.solver}};
+}
+
+// The STAT table "reconstruct" (formats/SPEC.md): numbers only, so the norm is its exponent (1 or 2)
+// and the solver a code (1 sparse normal Cholesky, 2 CGNR); INFO has them as names.
+lt::file::StatTable toStatTable(const lt::ReconstructStatistics& s) {
+    return {"reconstruct",
+            {"value"},
+            {"norm", "alpha", "irls_iterations", "solves", "iterations", "linear_iterations", "initial_cost",
+             "final_cost", "seconds", "solver"},
+            {{s.norm == "l1" ? 1.0 : 2.0},
+             {s.alpha},
+             {double(s.irlsIterations)},
+             {double(s.solves)},
+             {double(s.solverIterations)},
+             {double(s.linearIterations)},
+             {s.initialCost},
+             {s.finalCost},
+             {s.seconds},
+             {s.solver == "CGNR" ? 2.0 : 1.0}}};
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{
+        "lt-reconstruct: screened Poisson reconstruction of a gradient-domain render, L2 or L1, solved with Ceres.\n"
+        "  L2: min_I alpha^2 |I - P|^2 + |Dx I - Gx|^2 + |Dy I - Gy|^2 (unbiased; linear in the inputs).\n"
+        "  L1: the same with per-pixel RGB vector norms, not squared, by iteratively reweighted least squares:\n"
+        "      biased (though consistent) but robust: far fewer artifacts from outlier gradients.\n"
+        "Conventions (those of the public gradient-domain code): forward differences dx(x,y) = I(x+1,y) - I(x,y),\n"
+        "dy(x,y) = I(x,y+1) - I(x,y), rows top to bottom, the last column of dx and last row of dy unused. alpha\n"
+        "multiplies the primal residual, so it enters the L2 objective squared; larger alpha trusts the primal more.\n"
+        "Input: channels primal.R/G/B, dx.R/G/B, dy.R/G/B and optionally direct.R/G/B (directly visible emitters,\n"
+        "kept out of the solve and added back) of an lt buffer file or a multi-layer EXR; or separate images with\n"
+        "--primal, --dx, --dy (each with R, G, B or its layer's channels). Output by extension: .exr, or an lt\n"
+        "buffer file (.lts, - for stdout) with channels R, G, B and the solver statistics in a STAT table.",
+        "lt-reconstruct"};
+    std::string input, output, primalPath, dxPath, dyPath, directPath, normText = "l2", solverText = "auto";
+    lt::ReconstructSettings settings;
+    int threads = 0;
+    bool quiet = false;
+    app.add_option("IN", input, "buffer file (.lts, - for stdin) or multi-layer EXR with primal, dx, dy");
+    app.add_option("-o,--output", output, "reconstructed image: OUT.exr, or an lt buffer file (.lts, - for stdout)")
+        ->required();
+    auto* primalOpt = app.add_option("--primal", primalPath, "primal image (EXR or buffer file) instead of IN");
+    auto* dxOpt = app.add_option("--dx", dxPath, "horizontal forward differences, with --primal");
+    auto* dyOpt = app.add_option("--dy", dyPath, "vertical forward differences, with --primal");
+    auto* directOpt = app.add_option("--direct", directPath, "directly visible emitters, added after the solve");
+    primalOpt->needs(dxOpt, dyOpt);
+    dxOpt->needs(primalOpt);
+    dyOpt->needs(primalOpt);
+    directOpt->needs(primalOpt);
+    app.add_option("--norm", normText,
+                   "l2 (default: unbiased, so a reconstruction converges to the true image and runs merge and "
+                   "compare against references as renders do; fast) or l1 (robust to outlier gradients, fewer "
+                   "artifacts at low sample counts, but biased)")
+        ->check(CLI::IsMember({"l1", "l2"}));
+    app.add_option("--alpha", settings.alpha, "weight of the primal residual (default 0.2); must be > 0");
+    app.add_option("--iterations", settings.irlsIterations, "L1: reweighting (IRLS) steps (default 20)")
+        ->check(CLI::PositiveNumber);
+    app.add_option("--irls-reg", settings.irlsRegularizer,
+                   "L1: initial regularizer reg0 of the weights 1 / (|e| + reg) (default 0.05)");
+    app.add_option("--irls-decay", settings.irlsDecay, "L1: factor on the regularizer per step (default 0.5)");
+    app.add_option("--max-solver-iterations", settings.maxLinearIterations,
+                   "most CG iterations per linear solve with CGNR (default 500 for L2, 50 per L1 step)")
+        ->check(CLI::NonNegativeNumber);
+    app.add_option("--solver", solverText,
+                   "Ceres linear solver: auto (sparse Cholesky up to 256x256 pixels, CGNR above), cholesky, cgnr")
+        ->check(CLI::IsMember({"auto", "cholesky", "cgnr"}));
+    app.add_option("--threads", threads, "threads for Ceres (default: all cores)")->check(CLI::NonNegativeNumber);
+    app.add_flag("-q,--quiet", quiet, "no progress or statistics output");
+    return lt::tool::run(app, argc, argv, [&] {
+        if (input.empty() == primalPath.empty())
+            throw lt::Error(input.empty() ? "no input: give IN, or --primal, --dx and --dy"
+                                          : "give either IN or --primal, --dx and --dy, not both");
+        settings.norm = normText == "l1" ? lt::ReconstructNorm::L1 : lt::ReconstructNorm::L2;
+        settings.solver = solverText == "cholesky" ? lt::PoissonSolver::SparseNormalCholesky
+                          : solverText == "cgnr"   ? lt::PoissonSolver::Cgnr
+                                                   : lt::PoissonSolver::Auto;
+        settings.threads = threads > 0 ? threads : int(std::max(1u, std::thread::hardware_concurrency()));
+
+        lt::GradientImage image;
+        nlohmann::json sourceInfo;
+        std::string sourceName;
+        if (!input.empty()) {
+            lt::BufferSource source = lt::loadBuffer(input);
+            image = lt::gradientImageFromBuffer(source.buffer, source.name);
+            sourceInfo = source.info;
+            sourceName = source.name;
+        } else {
+            const lt::BufferSource p = lt::loadBuffer(primalPath), dx = lt::loadBuffer(dxPath),
+                                   dy = lt::loadBuffer(dyPath);
+            std::optional<lt::BufferSource> direct;
+            if (!directPath.empty()) direct = lt::loadBuffer(directPath);
+            image = lt::gradientImageFromLayers({&p.buffer, p.name}, {&dx.buffer, dx.name}, {&dy.buffer, dy.name},
+                                                direct ? std::optional<lt::LayerSource>({&direct->buffer, direct->name})
+                                                       : std::nullopt);
+            sourceName = p.name;
+        }
+
+        lt::tool::Progress progress("lt-reconstruct", quiet);
+        lt::ReconstructStatistics stats;
+        const lt::file::Buffer result =
+            lt::reconstructScreenedPoisson(image, settings, stats, [&](int done, int total) {
+                progress.update(double(done) / total,
+                                std::to_string(done) + " of " + std::to_string(total) + " linear solves");
+            });
+        progress.finish();
+
+        nlohmann::json info = lt::tool::makeInfo("lt-reconstruct", argc, argv,
+                                                 {{"norm", stats.norm},
+                                                  {"alpha", settings.alpha},
+                                                  {"iterations", settings.irlsIterations},
+                                                  {"irls_reg", settings.irlsRegularizer},
+                                                  {"irls_decay", settings.irlsDecay},
+                                                  {"max_solver_iterations", settings.maxLinearIterations},
+                                                  {"solver", solverText},
+                                                  {"threads", settings.threads}},
+                                                 nullptr);
+        info["input"] = sourceName;
+        if (sourceInfo.is_object() && sourceInfo.contains("scene")) info["scene"] = sourceInfo["scene"];
+        info["reconstruct"] = toJson(stats);
+        if (isExrName(output)) {
+            lt::writeExr(output, result, info);
+        } else {
+            lt::file::Writer writer(output, lt::file::FileKind::Buffer, info);
+            writer.writeBuffer(result);
+            writer.writeStats(toStatTable(stats));
+            writer.finish();
+        }
+        if (!quiet)
+            std::cerr << "lt-reconstruct: " << stats.norm << ", alpha " << stats.alpha << ", " << image.width << "x"
+                      << image.height << ": "
+                      << (stats.irlsIterations ? std::to_string(stats.irlsIterations) + " IRLS steps, " : "")
+                      << stats.solves << " solves with " << stats.solver << ", " << stats.solverIterations
+                      << " iterations, " << stats.linearIterations << " linear solver iterations; cost "
+                      << stats.initialCost << " -> " << stats.finalCost << "; " << stats.seconds << " s; wrote "
+                      << (output == "-" ? std::string("<stdout>") : output) << '\n';
+        return 0;
+    });
+}

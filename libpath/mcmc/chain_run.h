@@ -9,12 +9,15 @@
 #pragma once
 
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <vector>
 
 #include "image/film.h"
 #include "image/snapshot_schedule.h"
+#include "mcmc/metropolis.h"
 #include "mcmc/mutation_statistics.h"
 #include "sampling/bdpt.h"
 
@@ -26,8 +29,8 @@ struct ChainRunSettings {
     int chains = 256;       // independent chains; more chains, better stratified, shorter each
     int threads = 0;        // 0 = all cores
     uint64_t seed = 0;
-    int mutationsPerRound = 64;  // per chain between merges (granularity of snapshots)
-    SnapshotSchedule snapshots;  // checked at the end of every round (sample counts: mutations per pixel)
+    int mutationsPerRound = 64; // per chain between merges (granularity of snapshots)
+    SnapshotSchedule snapshots; // checked at the end of every round (sample counts: mutations per pixel)
 };
 
 struct ChainRunProgress {
@@ -57,5 +60,51 @@ struct ChainRunStats {
 
 using ChainProgressCallback = std::function<void(const ChainRunProgress&)>;
 using ChainSnapshotCallback = std::function<void(const ChainRunProgress&, const SampleFilm&)>;
+
+// One Markov chain, whatever its state space.
+class MarkovChain {
+public:
+    virtual ~MarkovChain() = default;
+    // Run up to n mutations, crediting `image` (and flushing the current state's credit at the end);
+    // `timeUp` is asked every 16 mutations. Returns the number of mutations done.
+    virtual uint64_t advance(uint64_t n, ChainImage& image, const std::function<bool()>& timeUp) = 0;
+    // Add the chain's counters to the run's.
+    virtual void collect(MutationStatistics& strategies, SampleHealth& health) const = 0;
+
+    uint64_t quota = 0; // mutations this chain is to run (all of them with only a time limit)
+    uint64_t done = 0;
+};
+
+// The clock, progress and snapshots of a run, from its start (start-up included) to its end.
+class ChainRunner {
+public:
+    ChainRunner(const ChainRunSettings& run, SampleFilm& film, const ChainProgressCallback& progress,
+                const std::atomic<bool>* stop, const ChainSnapshotCallback& snapshot);
+
+    // Seconds since the start, snapshot writing excluded.
+    [[nodiscard]] double elapsed() const;
+    [[nodiscard]] bool stopped() const { return stop_ && stop_->load(); }
+    void report(const char* phase, double fraction, uint64_t mutations) const;
+    // Give every chain its quota: the run's mutations split evenly (or unbounded with a time limit).
+    void assignQuotas(std::vector<std::unique_ptr<MarkovChain>>& chains) const;
+    // Rounds until every quota is done, the time is up or Ctrl-C: chains advance in parallel, their splats
+    // merge in chain order with scale = b / pixels (ChainImage). Fills the times, counts and statistics of
+    // `stats` (which must carry the strategy names).
+    void run(std::vector<std::unique_ptr<MarkovChain>>& chains, double scale, ChainRunStats& stats);
+    // Close `stats` for a run that ends without chains (interrupted during start-up).
+    void finish(ChainRunStats& stats) const;
+
+private:
+    const ChainRunSettings& run_;
+    SampleFilm& film_;
+    const ChainProgressCallback& progress_;
+    const std::atomic<bool>* stop_;
+    const ChainSnapshotCallback& snapshot_;
+    std::chrono::steady_clock::time_point start_;
+    double cpuStart_;
+    uint64_t raysBefore_;
+    double snapshotSeconds_ = 0;
+    uint64_t mutations_ = 0;
+};
 
 } // namespace lt

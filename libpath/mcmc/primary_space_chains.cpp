@@ -4,7 +4,6 @@
 #include <oneapi/tbb/task_arena.h>
 
 #include <chrono>
-#include <ctime>
 #include <memory>
 #include <numeric>
 
@@ -20,8 +19,6 @@ namespace {
 
 enum Row : size_t { LargeStep = 0, SmallStep = 1 };
 
-double cpuSeconds() { return double(std::clock()) / CLOCKS_PER_SEC; }
-
 // The numbers of start-up sample `index` of path length `edges` (0 for Kelemen), and of chain `chain`:
 // separate keyed streams, so nothing depends on the order in which threads run them.
 Pcg32 startupStream(uint64_t seed, int edges, uint64_t index) {
@@ -31,15 +28,72 @@ Pcg32 chainStream(uint64_t seed, uint64_t chain) {
     return Pcg32(mixBits(mixBits(seed ^ 0xc4a1c4a1ULL) + chain), chain);
 }
 
-struct Chain {
-    Chain(PrimarySampleVector start, int length) : u(std::move(start)), edges(length) {}
-    PrimarySampleVector u;
-    ChainPosition position;
-    int edges = 0;
-    uint64_t quota = 0, done = 0;
-    bool started = false;
-    MutationStatistics stats{{"large step", "small step"}};
-    SampleHealth health;
+class PrimarySpaceChain final : public MarkovChain {
+public:
+    PrimarySpaceChain(const PrimarySpaceTarget& target, const PrimarySpaceSettings& space, PrimarySampleVector start,
+                      int edges)
+        : target_(target), multiplexed_(space.space == PrimarySpace::Multiplexed),
+          largeStep_(space.largeStepProbability), u_(std::move(start)), edges_(edges) {}
+
+    uint64_t advance(uint64_t n, ChainImage& image, const std::function<bool()>& timeUp) override {
+        if (!started_) {
+            // The initial state: the start-up sample re-created from its own stream.
+            started_ = true;
+            position_.target = evaluate(position_.contributions);
+        }
+        Pcg32& rng = u_.rng();
+        uint64_t i = 0;
+        for (; i < n; ++i) {
+            // A time limit or Ctrl-C ends the round early, so a slow round cannot overshoot; only runs
+            // of a fixed mutation count are bit-reproducible.
+            if (i % 16 == 15 && timeUp()) break;
+            const bool large = rng.nextDouble() < largeStep_;
+            StrategyCounters& k = stats_[large ? LargeStep : SmallStep];
+            const auto t0 = std::chrono::steady_clock::now();
+            u_.startIteration(large);
+            const uint64_t bad = health_.nonFinite;
+            const double f = evaluate(proposed_);
+            ++k.proposed;
+            // Symmetric kernels: a = f*(u') / f*(u) (ALGORITHMS.md 8).
+            const double a = f > 0 ? std::min(1.0, f / position_.target) : 0.0;
+            if (!(f > 0))
+                ++k.rejected[size_t(health_.nonFinite > bad ? RejectCause::NonFinite : RejectCause::ZeroContribution)];
+            const bool move = f > 0 && rng.nextDouble() < a;
+            k.acceptance += a;
+            position_.step(proposed_, f, a, move, image);
+            if (move) {
+                u_.accept();
+                ++k.accepted;
+            } else {
+                u_.reject();
+            }
+            k.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        }
+        position_.flush(image);
+        return i;
+    }
+
+    void collect(MutationStatistics& strategies, SampleHealth& health) const override {
+        strategies.merge(stats_);
+        health.nonFinite += health_.nonFinite;
+    }
+
+private:
+    double evaluate(std::vector<ImageContribution>& out) {
+        return multiplexed_ ? target_.evaluateMultiplexed(edges_, u_, out, health_)
+                            : target_.evaluateAll(u_, out, health_);
+    }
+
+    const PrimarySpaceTarget& target_;
+    bool multiplexed_;
+    double largeStep_;
+    PrimarySampleVector u_;
+    int edges_;
+    bool started_ = false;
+    ChainPosition position_;
+    std::vector<ImageContribution> proposed_;
+    MutationStatistics stats_{{"large step", "small step"}};
+    SampleHealth health_;
 };
 
 } // namespace
@@ -51,30 +105,12 @@ ChainRunStats runPrimarySpaceChains(const Scene& scene, const PrimarySpaceSettin
     if (run.mutations == 0 && !(run.timeLimit > 0)) throw Error("give a number of mutations or a time limit");
     if (!(space.largeStepProbability >= 0 && space.largeStepProbability <= 1))
         throw Error("the large-step probability must be in [0, 1]");
+    ChainRunner runner(run, film, progress, stop, snapshot);
     const PrimarySpaceTarget target(scene, space.bdpt, space.unboundedEdges);
     const bool multiplexed = space.space == PrimarySpace::Multiplexed;
     const double pixels = double(film.width()) * double(film.height());
-
-    const auto start = std::chrono::steady_clock::now();
-    const double cpuStart = cpuSeconds();
-    auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
-    const uint64_t raysBefore = EmbreeAccel::rayCount();
     ChainRunStats stats;
     stats.strategies = MutationStatistics({"large step", "small step"});
-    auto report = [&](const char* phase, double fraction, uint64_t mutations, uint64_t total) {
-        if (!progress) return;
-        ChainRunProgress p;
-        p.phase = phase;
-        p.fraction = fraction;
-        p.mutations = mutations;
-        p.totalMutations = total;
-        p.wallSeconds = elapsed() - stats.snapshotSeconds;
-        p.cpuSeconds = cpuSeconds() - cpuStart;
-        p.snapshotSeconds = stats.snapshotSeconds;
-        progress(p);
-    };
-    auto stopped = [&] { return stop && stop->load(); };
-
     const int threads = run.threads > 0 ? run.threads : tbb::this_task_arena::max_concurrency();
     tbb::task_arena arena(threads);
 
@@ -83,7 +119,7 @@ ChainRunStats runPrimarySpaceChains(const Scene& scene, const PrimarySpaceSettin
     const uint64_t perLength = std::max<uint64_t>(1, space.startupSamples / uint64_t(lengths));
     std::vector<std::vector<double>> weights(size_t(lengths) + 1);
     std::atomic<uint64_t> startupNonFinite{0};
-    for (int k = 1; k <= lengths && !stopped(); ++k) {
+    for (int k = 1; k <= lengths && !runner.stopped(); ++k) {
         auto& w = weights[size_t(k)];
         w.assign(perLength, 0.0);
         arena.execute([&] {
@@ -101,7 +137,7 @@ ChainRunStats runPrimarySpaceChains(const Scene& scene, const PrimarySpaceSettin
                                   startupNonFinite += health.nonFinite;
                               });
         });
-        report("start-up", double(k) / lengths, 0, 0);
+        runner.report("start-up", double(k) / lengths, 0);
     }
     stats.startupSamples = perLength * uint64_t(lengths);
     stats.health.nonFinite = startupNonFinite.load();
@@ -112,11 +148,10 @@ ChainRunStats runPrimarySpaceChains(const Scene& scene, const PrimarySpaceSettin
         stats.bPerLength[size_t(k)] = std::accumulate(w.begin(), w.end(), 0.0) / double(perLength);
     }
     stats.b = std::accumulate(stats.bPerLength.begin(), stats.bPerLength.end(), 0.0);
-    stats.startupSeconds = elapsed();
-    if (stopped()) {
+    stats.startupSeconds = runner.elapsed();
+    if (runner.stopped()) {
         stats.interrupted = true;
-        stats.wallSeconds = elapsed();
-        stats.cpuSeconds = cpuSeconds() - cpuStart;
+        runner.finish(stats);
         return stats;
     }
     if (!(stats.b > 0))
@@ -132,121 +167,20 @@ ChainRunStats runPrimarySpaceChains(const Scene& scene, const PrimarySpaceSettin
     Pcg32 allocation = chainStream(run.seed, ~uint64_t(0));
     const double offset = allocation.nextDouble();
     stats.chainsPerLength.assign(size_t(lengths) + 1, 0);
-    std::vector<std::unique_ptr<Chain>> chains;
+    std::vector<std::unique_ptr<MarkovChain>> chains;
     for (int c = 0; c < run.chains; ++c) {
         Pcg32 rng = chainStream(run.seed, uint64_t(c));
         const int k = int(lengthShare.sample((c + offset) / run.chains)) + 1;
         const size_t index = startFrom[size_t(k)].sample(rng.nextDouble());
-        auto chain = std::make_unique<Chain>(
-            PrimarySampleVector(rng, startupStream(run.seed, multiplexed ? k : 0, index), space.smallStep), k);
+        chains.push_back(std::make_unique<PrimarySpaceChain>(
+            target, space,
+            PrimarySampleVector(rng, startupStream(run.seed, multiplexed ? k : 0, index), space.smallStep), k));
         ++stats.chainsPerLength[size_t(k)];
-        if (run.mutations > 0)
-            chain->quota = run.mutations / uint64_t(run.chains) + (uint64_t(c) < run.mutations % uint64_t(run.chains));
-        else
-            chain->quota = ~uint64_t(0);
-        chains.push_back(std::move(chain));
     }
+    runner.assignQuotas(chains);
 
-    // 3. Rounds: every chain advances by up to mutationsPerRound, then the splats merge in chain order.
-    const double scale = stats.b / pixels;
-    SnapshotSchedule schedule = run.snapshots;
-    const double pLarge = space.largeStepProbability;
-    for (;;) {
-        const double t = elapsed() - stats.snapshotSeconds;
-        const bool timeUp = run.timeLimit > 0 && t >= run.timeLimit;
-        bool remaining = false;
-        for (const auto& c : chains)
-            remaining |= c->done < c->quota;
-        if (timeUp || !remaining) break;
-        if (stopped()) {
-            stats.interrupted = true;
-            break;
-        }
-        std::vector<ChainImage> images(chains.size(), ChainImage(scale));
-        std::vector<uint64_t> roundMutations(chains.size(), 0);
-        arena.execute([&] {
-            tbb::parallel_for(size_t(0), chains.size(), [&](size_t ci) {
-                Chain& ch = *chains[ci];
-                ChainImage& image = images[ci];
-                std::vector<ImageContribution> proposed;
-                if (!ch.started) {
-                    // The initial state: the start-up sample re-created from its own stream.
-                    ch.started = true;
-                    ch.position.target =
-                        multiplexed ? target.evaluateMultiplexed(ch.edges, ch.u, ch.position.contributions, ch.health)
-                                    : target.evaluateAll(ch.u, ch.position.contributions, ch.health);
-                }
-                const uint64_t n = std::min<uint64_t>(uint64_t(run.mutationsPerRound), ch.quota - ch.done);
-                Pcg32& rng = ch.u.rng();
-                uint64_t i = 0;
-                for (; i < n; ++i) {
-                    // A time limit or Ctrl-C ends the round early (checked every 16 mutations, so a slow
-                    // round cannot overshoot); only runs of a fixed mutation count are bit-reproducible.
-                    if (i % 16 == 15 && ((run.timeLimit > 0 && elapsed() - stats.snapshotSeconds >= run.timeLimit) || stopped()))
-                        break;
-                    const bool large = rng.nextDouble() < pLarge;
-                    StrategyCounters& k = ch.stats[large ? LargeStep : SmallStep];
-                    const auto t0 = std::chrono::steady_clock::now();
-                    ch.u.startIteration(large);
-                    const uint64_t bad = ch.health.nonFinite;
-                    const double f = multiplexed ? target.evaluateMultiplexed(ch.edges, ch.u, proposed, ch.health)
-                                                 : target.evaluateAll(ch.u, proposed, ch.health);
-                    ++k.proposed;
-                    // Symmetric kernels: a = f*(u') / f*(u) (ALGORITHMS.md 8).
-                    const double a = ch.position.target > 0 ? std::min(1.0, f / ch.position.target) : 1.0;
-                    if (!(f > 0))
-                        ++k.rejected[size_t(ch.health.nonFinite > bad ? RejectCause::NonFinite
-                                                                      : RejectCause::ZeroContribution)];
-                    const bool move = f > 0 && rng.nextDouble() < a;
-                    k.acceptance += f > 0 ? a : 0.0;
-                    ch.position.step(proposed, f, f > 0 ? a : 0.0, move, image);
-                    if (move) {
-                        ch.u.accept();
-                        ++k.accepted;
-                    } else {
-                        ch.u.reject();
-                    }
-                    k.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-                }
-                ch.position.flush(image);
-                ch.done += i;
-                roundMutations[ci] = i;
-                EmbreeAccel::flushRayCount();
-            });
-        });
-        for (size_t ci = 0; ci < chains.size(); ++ci) {
-            TileResult r;
-            r.splats = std::move(images[ci].splats());
-            r.lightPaths = roundMutations[ci];
-            film.merge(r);
-            stats.mutations += roundMutations[ci];
-        }
-        const uint64_t total = run.mutations;
-        const double wall = elapsed() - stats.snapshotSeconds;
-        double fraction = total > 0 ? double(stats.mutations) / double(total) : -1;
-        if (run.timeLimit > 0) fraction = std::max(fraction, std::min(1.0, wall / run.timeLimit));
-        if (snapshot && schedule.due(wall, double(stats.mutations) / pixels)) {
-            ChainRunProgress p;
-            p.phase = "chains";
-            p.mutations = stats.mutations;
-            p.totalMutations = total;
-            p.wallSeconds = wall;
-            p.cpuSeconds = cpuSeconds() - cpuStart;
-            p.snapshotSeconds = stats.snapshotSeconds;
-            const double s0 = elapsed();
-            snapshot(p, film);
-            ++stats.snapshots;
-            stats.snapshotSeconds += elapsed() - s0;
-        }
-        report("chains", fraction, stats.mutations, total);
-    }
-    for (const auto& c : chains) {
-        stats.strategies.merge(c->stats);
-        stats.health.nonFinite += c->health.nonFinite;
-    }
-    stats.wallSeconds = elapsed() - stats.snapshotSeconds;
-    stats.cpuSeconds = cpuSeconds() - cpuStart;
-    stats.rays = EmbreeAccel::rayCount() - raysBefore;
+    // 3. Rounds of mutations.
+    runner.run(chains, stats.b / pixels, stats);
     return stats;
 }
 

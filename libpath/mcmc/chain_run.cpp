@@ -1,0 +1,112 @@
+#include "mcmc/chain_run.h"
+
+#include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/task_arena.h>
+
+#include <ctime>
+
+#include "scene/accel.h"
+
+namespace lt {
+
+namespace {
+
+double cpuSeconds() { return double(std::clock()) / CLOCKS_PER_SEC; }
+
+} // namespace
+
+ChainRunner::ChainRunner(const ChainRunSettings& run, SampleFilm& film, const ChainProgressCallback& progress,
+                         const std::atomic<bool>* stop, const ChainSnapshotCallback& snapshot)
+    : run_(run), film_(film), progress_(progress), stop_(stop), snapshot_(snapshot),
+      start_(std::chrono::steady_clock::now()), cpuStart_(cpuSeconds()), raysBefore_(EmbreeAccel::rayCount()) {}
+
+double ChainRunner::elapsed() const {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count() - snapshotSeconds_;
+}
+
+void ChainRunner::report(const char* phase, double fraction, uint64_t mutations) const {
+    if (!progress_) return;
+    ChainRunProgress p;
+    p.phase = phase;
+    p.fraction = fraction;
+    p.mutations = mutations;
+    p.totalMutations = run_.mutations;
+    p.wallSeconds = elapsed();
+    p.cpuSeconds = cpuSeconds() - cpuStart_;
+    p.snapshotSeconds = snapshotSeconds_;
+    progress_(p);
+}
+
+void ChainRunner::assignQuotas(std::vector<std::unique_ptr<MarkovChain>>& chains) const {
+    const uint64_t n = chains.size();
+    for (uint64_t c = 0; c < n; ++c)
+        chains[c]->quota = run_.mutations > 0 ? run_.mutations / n + (c < run_.mutations % n) : ~uint64_t(0);
+}
+
+void ChainRunner::run(std::vector<std::unique_ptr<MarkovChain>>& chains, double scale, ChainRunStats& stats) {
+    const int threads = run_.threads > 0 ? run_.threads : tbb::this_task_arena::max_concurrency();
+    tbb::task_arena arena(threads);
+    const double pixels = double(film_.width()) * double(film_.height());
+    SnapshotSchedule schedule = run_.snapshots;
+    const auto timeUp = [&] { return (run_.timeLimit > 0 && elapsed() >= run_.timeLimit) || stopped(); };
+    for (;;) {
+        bool remaining = false;
+        for (const auto& c : chains)
+            remaining |= c->done < c->quota;
+        if (!remaining || (run_.timeLimit > 0 && elapsed() >= run_.timeLimit)) break;
+        if (stopped()) {
+            stats.interrupted = true;
+            break;
+        }
+        std::vector<ChainImage> images(chains.size(), ChainImage(scale));
+        std::vector<uint64_t> done(chains.size(), 0);
+        arena.execute([&] {
+            tbb::parallel_for(size_t(0), chains.size(), [&](size_t c) {
+                MarkovChain& chain = *chains[c];
+                const uint64_t n = std::min<uint64_t>(uint64_t(run_.mutationsPerRound), chain.quota - chain.done);
+                done[c] = chain.advance(n, images[c], timeUp);
+                chain.done += done[c];
+                EmbreeAccel::flushRayCount();
+            });
+        });
+        // Merge in chain order: the film does not depend on which thread ran which chain.
+        for (size_t c = 0; c < chains.size(); ++c) {
+            TileResult r;
+            r.splats = std::move(images[c].splats());
+            r.lightPaths = done[c];
+            film_.merge(r);
+            mutations_ += done[c];
+        }
+        const double wall = elapsed();
+        double fraction = run_.mutations > 0 ? double(mutations_) / double(run_.mutations) : -1;
+        if (run_.timeLimit > 0) fraction = std::max(fraction, std::min(1.0, wall / run_.timeLimit));
+        if (snapshot_ && schedule.due(wall, double(mutations_) / pixels)) {
+            ChainRunProgress p;
+            p.phase = "chains";
+            p.mutations = mutations_;
+            p.totalMutations = run_.mutations;
+            p.wallSeconds = wall;
+            p.cpuSeconds = cpuSeconds() - cpuStart_;
+            p.snapshotSeconds = snapshotSeconds_;
+            const auto s0 = std::chrono::steady_clock::now();
+            snapshot_(p, film_);
+            ++stats.snapshots;
+            snapshotSeconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - s0).count();
+        }
+        report("chains", fraction, mutations_);
+    }
+    if (stopped()) stats.interrupted = true;
+    for (const auto& c : chains)
+        c->collect(stats.strategies, stats.health);
+    stats.mutations = mutations_;
+    finish(stats);
+}
+
+void ChainRunner::finish(ChainRunStats& stats) const {
+    stats.wallSeconds = elapsed();
+    stats.cpuSeconds = cpuSeconds() - cpuStart_;
+    stats.snapshotSeconds = snapshotSeconds_;
+    stats.rays = EmbreeAccel::rayCount() - raysBefore_;
+}
+
+} // namespace lt

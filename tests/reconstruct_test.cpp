@@ -1,7 +1,8 @@
 // reconstruct/: the screened Poisson reconstruction (ALGORITHMS.md 7 "Tests"): exact recovery from exact
-// gradients, Ceres against an Eigen sparse solve of the normal equations, unbiasedness of L2 over many
-// noise draws against the variance the linear solve implies, L1's robustness to outliers, the offset
-// equivariance, stiff cases, the direct plane, and the messages for bad input.
+// gradients, Ceres and Eigen CG against an Eigen sparse solve of the normal equations, Eigen CG against
+// Ceres for L1, auto's choice of solver, unbiasedness of L2 over many noise draws against the variance
+// the linear solve implies, L1's robustness to outliers, the offset equivariance, stiff cases, the direct
+// plane, and the messages for bad input.
 #include <Eigen/Dense>
 #include <Eigen/Sparse>
 #include <catch2/catch.hpp>
@@ -56,11 +57,12 @@ void addNoise(GradientImage& im, Pcg32& rng, double sigmaPrimal, double sigmaGra
 }
 
 file::Buffer solve(const GradientImage& im, ReconstructNorm norm, double alpha,
-                   PoissonSolver solver = PoissonSolver::Auto) {
+                   PoissonSolver solver = PoissonSolver::Auto, int maxLinearIterations = 0) {
     ReconstructSettings s;
     s.norm = norm;
     s.alpha = alpha;
     s.solver = solver;
+    s.maxLinearIterations = maxLinearIterations;
     ReconstructStatistics stats;
     return reconstructScreenedPoisson(im, s, stats);
 }
@@ -71,6 +73,20 @@ double maxRelativeError(const file::Buffer& out, const RgbPlanes& truth) {
         for (size_t p = 0; p < truth[c].size(); ++p)
             worst = std::max(worst, std::abs(double(out.planes[c][p]) - truth[c][p]) /
                                         std::max(1.0, std::abs(double(truth[c][p]))));
+    return worst;
+}
+
+// The largest over the channels of |out - ref|_2 / |ref|_2.
+double relativeNormError(const file::Buffer& out, const RgbPlanes& ref) {
+    double worst = 0;
+    for (size_t c = 0; c < 3; ++c) {
+        double diff = 0, norm = 0;
+        for (size_t p = 0; p < ref[c].size(); ++p) {
+            diff += std::pow(double(out.planes[c][p]) - ref[c][p], 2);
+            norm += std::pow(double(ref[c][p]), 2);
+        }
+        worst = std::max(worst, std::sqrt(diff / norm));
+    }
     return worst;
 }
 
@@ -159,12 +175,12 @@ std::string errorOf(const std::function<void()>& f) {
 
 } // namespace
 
-TEST_CASE("exact gradients and primal give back the image (L2, L1, both solvers)", "[reconstruct]") {
+TEST_CASE("exact gradients and primal give back the image (L2, L1, every solver)", "[reconstruct]") {
     const uint32_t w = 40, h = 30;
     const RgbPlanes truth = smoothImage(w, h);
     const GradientImage im = exactInput(truth, w, h);
     for (auto norm : {ReconstructNorm::L2, ReconstructNorm::L1})
-        for (auto solver : {PoissonSolver::SparseNormalCholesky, PoissonSolver::Cgnr}) {
+        for (auto solver : {PoissonSolver::SparseNormalCholesky, PoissonSolver::Cgnr, PoissonSolver::EigenCg}) {
             INFO("norm " << normName(norm) << ", solver " << int(solver));
             CHECK(maxRelativeError(solve(im, norm, 0.2, solver), truth) < 1e-4);
         }
@@ -205,7 +221,66 @@ TEST_CASE("Ceres solves the normal equations: same as Eigen's sparse LDL^T on 64
         // CGNR: at alpha 0.2 the condition number is (0.04 + 8) / 0.04 = 201, so 500 CG steps reduce the
         // error by far more than 1e-4.
         CHECK(maxRelativeError(solve(im, ReconstructNorm::L2, alpha, PoissonSolver::Cgnr), ref) < 1e-4);
+        // Eigen CG stops at |b - A x| <= tol |b| (tol = kEigenCgTolerance); with |A^-1| = 1 / alpha^2 and
+        // |b| <= |A| |x*| = (alpha^2 + 8) |x*| the error is |x - x*| <= tol (alpha^2 + 8) / alpha^2 |x*|.
+        const double bound = kEigenCgTolerance * (alpha * alpha + 8) / (alpha * alpha);
+        CHECK(relativeNormError(solve(im, ReconstructNorm::L2, alpha, PoissonSolver::EigenCg), ref) < bound);
     }
+}
+
+TEST_CASE("Eigen CG solves the same problems as Ceres's sparse Cholesky, L2 and L1", "[reconstruct]") {
+    const uint32_t w = 48, h = 40;
+    GradientImage im = exactInput(smoothImage(w, h), w, h);
+    Pcg32 rng(19, 8);
+    addNoise(im, rng, 0.3, 0.1);
+    for (size_t p = 0; p < im.pixels(); p += 97)
+        im.dx[p % 3][p] = 50; // outliers, so that the L1 weights differ strongly from pixel to pixel
+    const double alpha = 0.2;
+    const file::Buffer exact = solve(im, ReconstructNorm::L2, alpha, PoissonSolver::SparseNormalCholesky);
+    const RgbPlanes ref{exact.planes[0], exact.planes[1], exact.planes[2]};
+    // The bound on CG's error derived in the test above.
+    CHECK(relativeNormError(solve(im, ReconstructNorm::L2, alpha, PoissonSolver::EigenCg), ref) <
+          kEigenCgTolerance * (alpha * alpha + 8) / (alpha * alpha));
+    // L1: every IRLS step solved to the tolerance (500 CG steps suffice here), so the two reweighting
+    // sequences differ only by the CG errors of each step, carried through the weights 1 / (|e| + reg).
+    // Those amplify a difference in e by up to 1 / reg: with 5 steps (reg down to 0.05 / 16 = 3e-3) the
+    // images stay within the bound of one L2 solve (measured 1.4e-5); with the default 20 (reg 1e-7)
+    // they differ by 1.3e-2 where the L1 objective is flat, and the objectives agree to 2.4e-4.
+    ReconstructSettings s;
+    s.norm = ReconstructNorm::L1;
+    s.maxLinearIterations = 500;
+    for (int steps : {5, 20}) {
+        s.irlsIterations = steps;
+        ReconstructStatistics ceresStats, eigenStats;
+        s.solver = PoissonSolver::SparseNormalCholesky;
+        const file::Buffer a = reconstructScreenedPoisson(im, s, ceresStats);
+        s.solver = PoissonSolver::EigenCg;
+        const file::Buffer b = reconstructScreenedPoisson(im, s, eigenStats);
+        const double e = relativeNormError(b, {a.planes[0], a.planes[1], a.planes[2]});
+        INFO(steps << " IRLS steps: relative difference " << e << ", objectives " << ceresStats.finalCost << ", "
+                   << eigenStats.finalCost);
+        if (steps == 5) CHECK(e < kEigenCgTolerance * (alpha * alpha + 8) / (alpha * alpha));
+        CHECK(eigenStats.finalCost == Approx(ceresStats.finalCost).epsilon(1e-3));
+    }
+}
+
+TEST_CASE("auto: Ceres's sparse Cholesky up to kCholeskyMaxPixels, Eigen CG above", "[reconstruct]") {
+    ReconstructSettings s;
+    ReconstructStatistics stats;
+    const RgbPlanes small = smoothImage(64, 64);
+    REQUIRE(64 * 64 <= kCholeskyMaxPixels);
+    (void)reconstructScreenedPoisson(exactInput(small, 64, 64), s, stats);
+    CHECK(stats.solverUsed == PoissonSolver::SparseNormalCholesky);
+    CHECK(stats.solver == "SPARSE_NORMAL_CHOLESKY");
+    const uint32_t w = 400, h = 300;
+    const RgbPlanes truth = smoothImage(w, h);
+    const file::Buffer out = reconstructScreenedPoisson(exactInput(truth, w, h), s, stats);
+    CHECK(stats.solverUsed == PoissonSolver::EigenCg);
+    CHECK(stats.solver == "EIGEN_CG");
+    CHECK(stats.solverReason == "auto: 120000 > 4096 pixels");
+    CHECK(stats.solves == 3);
+    CHECK(stats.linearResidual <= kEigenCgTolerance);
+    CHECK(maxRelativeError(out, truth) < 1e-4);
 }
 
 TEST_CASE("L2 is unbiased: the mean over 1000 noise draws is the truth within 5 standard errors", "[reconstruct]") {

@@ -6,8 +6,12 @@
 #include <chrono>
 #include <cmath>
 #include <memory>
+#include <optional>
+#include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/task_arena.h>
 
 #include "math/error.h"
+#include "reconstruct/normal_equations.h"
 
 namespace lt {
 
@@ -159,9 +163,12 @@ double objective(const GradientImage& im, const Solution& x, double alpha, Recon
 // IRLS weights for the L1 objective at `x` (ALGORITHMS.md 7): w = 1 / (|e|_2 + reg) per pixel and
 // residual, from the RGB vector norm |e|_2, so the three channels share one weight and stay one
 // problem each. Minimizing sum w |e|^2 with these weights is the majorizer of sum |e| at x.
-void irlsWeights(const GradientImage& im, const Solution& x, double alpha, double reg, std::vector<float>& sp,
-                 std::vector<float>& sx, std::vector<float>& sy) {
+void irlsWeights(const GradientImage& im, const Solution& x, double alpha, double reg, ResidualWeights& weights) {
     const uint32_t W = im.width, H = im.height;
+    auto &sp = weights.primal, &sx = weights.dx, &sy = weights.dy;
+    sp.resize(im.pixels());
+    sx.resize(im.pixels());
+    sy.resize(im.pixels());
     for (uint32_t y = 0; y < H; ++y)
         for (uint32_t px = 0; px < W; ++px) {
             const size_t p = size_t(y) * W + px;
@@ -218,10 +225,11 @@ public:
             }
     }
 
-    void setWeights(const std::vector<float>& sp, const std::vector<float>& sx, const std::vector<float>& sy) {
-        data_.sqrtWeightPrimal = sp.data();
-        data_.sqrtWeightDx = sx.data();
-        data_.sqrtWeightDy = sy.data();
+    // The weights must outlive the solves; empty ones (L2) weigh every residual 1.
+    void setWeights(const ResidualWeights& w) {
+        data_.sqrtWeightPrimal = w.primal.empty() ? nullptr : w.primal.data();
+        data_.sqrtWeightDx = w.dx.empty() ? nullptr : w.dx.data();
+        data_.sqrtWeightDy = w.dy.empty() ? nullptr : w.dy.data();
     }
 
     // Solves channel c starting from x[c] (the warm start) and leaves the result there.
@@ -268,30 +276,56 @@ file::Buffer reconstructScreenedPoisson(const GradientImage& image, const Recons
     const bool l1 = settings.norm == ReconstructNorm::L1;
     const size_t N = image.pixels();
 
-    const bool cholesky = settings.solver == PoissonSolver::SparseNormalCholesky ||
-                          (settings.solver == PoissonSolver::Auto && N <= kCholeskyMaxPixels);
-    ceres::Solver::Options options;
-    options.linear_solver_type = cholesky ? ceres::SPARSE_NORMAL_CHOLESKY : ceres::CGNR;
-    options.preconditioner_type = ceres::JACOBI;
-    options.num_threads = settings.threads;
-    options.logging_type = ceres::SILENT;
-    // The problem is linear least squares: with an (effectively) unbounded trust region the first
-    // Levenberg-Marquardt step is the Gauss-Newton step, i.e. the solution of the normal equations
-    // (the screened Poisson equation, ALGORITHMS.md 7), so one iteration suffices.
-    options.initial_trust_region_radius = 1e16;
-    options.max_trust_region_radius = 1e16;
-    options.max_num_iterations = 1;
-    // CGNR: GPT's presets cap the CG steps (L2Q 500, L1D 50 per reweighting step). eta, Ceres's
-    // threshold on the relative decrease of the quadratic model, is tight, so CG runs to its own
-    // convergence or the cap (1280x720, alpha 0.2: about 55 steps, the final cost of sparse Cholesky).
-    options.max_linear_solver_iterations =
-        settings.maxLinearIterations > 0 ? settings.maxLinearIterations : (l1 ? 50 : 500);
-    options.eta = 1e-10;
-
     statistics = {};
     statistics.norm = normName(settings.norm);
     statistics.alpha = settings.alpha;
-    statistics.solver = ceres::LinearSolverTypeToString(options.linear_solver_type);
+    // The design card names Ceres, and it stays the solver of small images: exact, and its Problem is
+    // checked against an independent solve. For large ones its cost is the obstacle, not the method: at
+    // 1280x720 RGB (pipelines/bench/reconstruct.sh, 2 cores) Ceres CGNR took 36-39 s for L2 and 419-685 s
+    // for L1 at 0.95 KB per pixel, half of it in Ceres's block-sparse products (100-200 ms per CG step,
+    // single-threaded in Ceres 2.1) and 0.6-1 s of problem setup per solve. Eigen CG on the assembled
+    // 5-point matrix of the same normal equations: 18 ms per CG step (memory-bound: 64 bytes of matrix
+    // and ~19 vector passes per pixel), 2.8 s of solve for L2 on 2 threads, 9-15 s for L1 (depending on
+    // the load of the shared machine), 0.3 GB; 4K L2 30 s, 1.9 GB. Ceres's sparse Cholesky,
+    // 2 threads, L2 / L1: 0.07 / 1.3 s at 64x64, 0.34 / 7.4 s at 128x128, 2.4 / 45 s at 256x256
+    // (Eigen CG: 0.01 / 0.03, 0.04 / 0.10, 0.13 / 0.5 s), hence the threshold kCholeskyMaxPixels.
+    PoissonSolver solver = settings.solver;
+    if (solver == PoissonSolver::Auto) {
+        solver = N <= kCholeskyMaxPixels ? PoissonSolver::SparseNormalCholesky : PoissonSolver::EigenCg;
+        statistics.solverReason = "auto: " + std::to_string(N) + (N <= kCholeskyMaxPixels ? " <= " : " > ") +
+                                  std::to_string(kCholeskyMaxPixels) + " pixels";
+    } else {
+        statistics.solverReason = "requested";
+    }
+    statistics.solverUsed = solver;
+    int maxLinearIterations = settings.maxLinearIterations;
+    if (maxLinearIterations == 0)
+        maxLinearIterations = !l1 ? 500 : solver == PoissonSolver::EigenCg ? kEigenCgL1Iterations : 50;
+
+    std::optional<ChannelProblem> ceresProblem;
+    ceres::Solver::Options options;
+    if (solver == PoissonSolver::EigenCg) {
+        statistics.solver = "EIGEN_CG";
+    } else {
+        options.linear_solver_type =
+            solver == PoissonSolver::SparseNormalCholesky ? ceres::SPARSE_NORMAL_CHOLESKY : ceres::CGNR;
+        options.preconditioner_type = ceres::JACOBI;
+        options.num_threads = settings.threads;
+        options.logging_type = ceres::SILENT;
+        // The problem is linear least squares: with an (effectively) unbounded trust region the first
+        // Levenberg-Marquardt step is the Gauss-Newton step, i.e. the solution of the normal equations
+        // (the screened Poisson equation, ALGORITHMS.md 7), so one iteration suffices.
+        options.initial_trust_region_radius = 1e16;
+        options.max_trust_region_radius = 1e16;
+        options.max_num_iterations = 1;
+        // CGNR: GPT's presets cap the CG steps (L2Q 500, L1D 50 per reweighting step). eta, Ceres's
+        // threshold on the relative decrease of the quadratic model, is tight, so CG runs to its own
+        // convergence or the cap (1280x720, alpha 0.2: about 55 steps, the final cost of sparse Cholesky).
+        options.max_linear_solver_iterations = maxLinearIterations;
+        options.eta = 1e-10;
+        statistics.solver = ceres::LinearSolverTypeToString(options.linear_solver_type);
+        ceresProblem.emplace(image, settings.alpha);
+    }
 
     // Warm start at the primal (ALGORITHMS.md 7).
     Solution x;
@@ -299,30 +333,55 @@ file::Buffer reconstructScreenedPoisson(const GradientImage& image, const Recons
         x[c].assign(image.primal[c].begin(), image.primal[c].end());
     statistics.initialCost = objective(image, x, settings.alpha, settings.norm);
 
-    ChannelProblem problem(image, settings.alpha);
     const int total = 3 * (l1 ? 1 + settings.irlsIterations : 1);
     int done = 0;
+    ResidualWeights weights; // empty: L2, and the L2 start of L1
+    NormalMatrix A;
+    tbb::task_arena arena(settings.threads);
+    // One linear problem, all three channels, from the current x (the warm start) to its solution.
     const auto solveChannels = [&] {
-        for (size_t c = 0; c < 3; ++c) {
-            const ceres::Solver::Summary summary = problem.solve(c, x[c], options);
-            ++statistics.solves;
-            // summary.iterations starts with iteration 0, the evaluation at the starting point.
-            statistics.solverIterations += int(summary.iterations.size()) - 1;
-            for (const auto& it : summary.iterations)
-                statistics.linearIterations += it.linear_solver_iterations;
-            if (progress) progress(++done, total);
+        if (solver != PoissonSolver::EigenCg) {
+            ceresProblem->setWeights(weights);
+            for (size_t c = 0; c < 3; ++c) {
+                const ceres::Solver::Summary summary = ceresProblem->solve(c, x[c], options);
+                ++statistics.solves;
+                // summary.iterations starts with iteration 0, the evaluation at the starting point.
+                statistics.solverIterations += int(summary.iterations.size()) - 1;
+                for (const auto& it : summary.iterations)
+                    statistics.linearIterations += it.linear_solver_iterations;
+                if (progress) progress(++done, total);
+            }
+            return;
         }
+        // The weights are shared by R, G and B, so one matrix serves the three channels, solved in
+        // parallel (each CG is a chain of dependent mat-vecs; three are the parallelism there is).
+        assembleNormalMatrix(image.width, image.height, settings.alpha, weights, A);
+        std::array<ConjugateGradientResult, 3> results;
+        arena.execute([&] {
+            tbb::parallel_for(size_t(0), size_t(3), [&](size_t c) {
+                Eigen::VectorXd b;
+                normalRightHandSide(image, c, settings.alpha, weights, b);
+                results[c] = solveNormalEquations(A, b, kEigenCgTolerance, maxLinearIterations,
+                                                  Eigen::Map<Eigen::VectorXd>(x[c].data(), Eigen::Index(N)));
+            });
+        });
+        for (const auto& r : results) {
+            ++statistics.solves;
+            ++statistics.solverIterations;
+            statistics.linearIterations += r.iterations;
+            statistics.linearResidual = std::max(statistics.linearResidual, r.relativeResidual);
+        }
+        done += 3;
+        if (progress) progress(done, total);
     };
     // L2, and for L1 the starting point of the reweighting: at the primal itself every primal residual
     // is 0, so the first weights would pin the image to the noisy primal; the L2 solution balances
     // primal and gradient residuals.
     solveChannels();
     if (l1) {
-        std::vector<float> sp(N), sx(N), sy(N);
-        problem.setWeights(sp, sx, sy);
         double reg = settings.irlsRegularizer;
         for (int it = 0; it < settings.irlsIterations; ++it, reg *= settings.irlsDecay) {
-            irlsWeights(image, x, settings.alpha, reg, sp, sx, sy);
+            irlsWeights(image, x, settings.alpha, reg, weights);
             solveChannels();
             ++statistics.irlsIterations;
         }

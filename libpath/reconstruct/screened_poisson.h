@@ -1,4 +1,4 @@
-// Screened Poisson reconstruction of a gradient-domain render, L2 and L1, solved with Ceres
+// Screened Poisson reconstruction of a gradient-domain render, L2 and L1, solved with Ceres or Eigen CG
 // (ALGORITHMS.md 7; [GDPR] Sec. 2.2, 4; the solver schedule follows Kettunen's GPT code).
 //   L2: min_I  alpha^2 |I - P|^2 + |Dx I - Gx|^2 + |Dy I - Gy|^2          (unbiased: linear in P, G)
 //   L1: min_I  sum_p |alpha (I - P)_p| + |(Dx I - Gx)_p| + |(Dy I - Gy)_p|  (per-pixel RGB vector norms)
@@ -15,14 +15,28 @@ namespace lt {
 
 enum class ReconstructNorm { L2, L1 };
 enum class PoissonSolver {
-    Auto,                 // sparse Cholesky up to kCholeskyMaxPixels, CGNR above
-    SparseNormalCholesky, // exact; memory and time grow faster than the image
-    Cgnr,                 // conjugate gradients on the normal equations, Jacobi preconditioned
+    Auto,                 // Ceres's sparse Cholesky up to kCholeskyMaxPixels, Eigen CG above
+    SparseNormalCholesky, // Ceres, exact; memory and time grow faster than the image
+    Cgnr,                 // Ceres, conjugate gradients on the normal equations, Jacobi preconditioned
+    EigenCg,              // Eigen's conjugate gradients on the assembled normal equations, Jacobi preconditioned
 };
 
-// Images up to this many pixels are solved by sparse Cholesky under PoissonSolver::Auto (measured in
-// pipelines/bench/reconstruct.sh: beyond it CGNR is faster and needs far less memory).
-inline constexpr size_t kCholeskyMaxPixels = 256 * 256;
+// Images up to this many pixels are solved by Ceres's sparse Cholesky under PoissonSolver::Auto, larger
+// ones by Eigen CG (the measurements are at the choice, in screened_poisson.cpp).
+inline constexpr size_t kCholeskyMaxPixels = 64 * 64;
+
+// Eigen CG stops when |b - A I| <= kEigenCgTolerance |b| for the normal equations A I = b of a channel
+// (or at the iteration cap). Measured at 1280x720 against Eigen's sparse LDL^T, from the primal, alpha
+// 0.2: 1e-5 takes 59 steps and leaves an RMS difference of 8e-6 (max 4e-5) on values 0.2 .. 2.5, 4000
+// times below the RMS error of the exact L2 solution itself (0.035 for primal noise 0.2, gradient noise
+// 0.05); 1e-6 takes 75 steps for 8e-7.
+inline constexpr double kEigenCgTolerance = 1e-5;
+
+// Eigen CG's default cap per L1 linear solve. Each IRLS step starts from the previous one's result and
+// only the last step's solution is kept, so the steps need not be exact: at 1280x720 (bench input,
+// 2 threads) 10 steps per solve gave the same MSE against the truth as 50 (1.57e-3 vs 1.59e-3) and an
+// L1 objective 1e-4 (relative) higher, in 9 s instead of 47 s.
+inline constexpr int kEigenCgL1Iterations = 10;
 
 struct ReconstructSettings {
     ReconstructNorm norm = ReconstructNorm::L2;
@@ -30,7 +44,8 @@ struct ReconstructSettings {
     int irlsIterations = 20;       // L1: reweighting steps (GPT's L1D preset)
     double irlsRegularizer = 0.05; // L1: reg0 in w = 1 / (|e| + reg0 * decay^it)
     double irlsDecay = 0.5;        // L1: factor on the regularizer per step
-    // Most CG iterations per linear solve (CGNR only); 0: 500 for L2 (GPT's L2Q) and 50 per L1 step (L1D).
+    // Most CG iterations per linear solve (CGNR and Eigen CG); 0: 500 for L2 (GPT's L2Q), and per L1 step
+    // (including its L2 start) 50 with CGNR (L1D) and 10 with Eigen CG (see kEigenCgL1Iterations).
     int maxLinearIterations = 0;
     PoissonSolver solver = PoissonSolver::Auto;
     int threads = 1;
@@ -40,13 +55,16 @@ struct ReconstructStatistics {
     std::string norm; // "l2" or "l1"
     double alpha = 0;
     int irlsIterations = 0;   // reweighting steps done (0 for L2)
-    int solves = 0;           // Ceres solves (one per channel and linear problem)
-    int solverIterations = 0; // Ceres trust-region iterations, all solves
+    int solves = 0;           // linear solves (one per channel and linear problem)
+    int solverIterations = 0; // Ceres trust-region iterations, all solves (Eigen CG: 1 per solve)
     int linearIterations = 0; // linear solver iterations (CG steps; 1 per Cholesky solve), all solves
     double initialCost = 0;   // the objective above (of the chosen norm) at I = P
     double finalCost = 0;     // and at the result (both without the direct plane)
     double seconds = 0;       // wall time of the whole reconstruction
-    std::string solver;       // the Ceres linear solver used
+    std::string solver;       // the linear solver used: SPARSE_NORMAL_CHOLESKY, CGNR (Ceres) or EIGEN_CG
+    PoissonSolver solverUsed = PoissonSolver::Auto; // the same as an enum (never Auto)
+    std::string solverReason;                       // why: "requested", or auto's rule and the pixel count
+    double linearResidual = 0; // Eigen CG: the largest |b - A I| / |b| at the end of a solve (0 otherwise)
 };
 
 // Called after each linear problem: (problems done, problems in all); the tool shows it as progress.
@@ -54,7 +72,7 @@ using ReconstructProgress = std::function<void(int done, int total)>;
 
 // The reconstructed image as an R, G, B buffer, the direct plane (if any) added back. The input must
 // pass validateGradientImage; settings are checked here (alpha > 0 and finite, iterations >= 1, ...).
-// Throws lt::Error when the settings are invalid or Ceres fails.
+// Throws lt::Error when the settings are invalid or a solver fails.
 [[nodiscard]] file::Buffer reconstructScreenedPoisson(const GradientImage& image, const ReconstructSettings& settings,
                                                       ReconstructStatistics& statistics,
                                                       const ReconstructProgress& progress = {});

@@ -14,7 +14,7 @@ check "input made" '[ -s in.lts ] && [ -s truth.exr ]'
 out=$("$bin/lt-reconstruct" in.lts -o l2.lts 2>&1); code=$?
 echo "$out"
 check "L2: exit 0 and statistics on stderr" '[ $code -eq 0 ] &&
-  echo "$out" | grep -Eq "^lt-reconstruct: l2, alpha 0.2, 48x32: 3 solves with SPARSE_NORMAL_CHOLESKY, 3 iterations, .* s; wrote l2.lts$"'
+  echo "$out" | grep -Eq "^lt-reconstruct: l2, alpha 0.2, 48x32: 3 solves with SPARSE_NORMAL_CHOLESKY \(auto: 1536 <= 4096 pixels\), 3 iterations, .* s; wrote l2.lts$"'
 check "L2: STAT table reconstruct in the file" '"$bin/lt-inspect" l2.lts --json | python3 -c "
 import json, sys
 j = json.load(sys.stdin)
@@ -34,6 +34,24 @@ check "L2 beats the primal ($el2 vs $ep)" 'awk -v a="$el2" -v b="$ep" "BEGIN { e
 out=$("$bin/lt-reconstruct" in.lts --norm l1 --iterations 5 -o l1.exr 2>&1); code=$?
 check "L1: exit 0, EXR written, 5 IRLS steps" '[ $code -eq 0 ] && [ "$(magic l1.exr 4)" = "762f3101" ] &&
   echo "$out" | grep -q "^lt-reconstruct: l1, alpha 0.2, 48x32: 5 IRLS steps, 18 solves"'
+
+# Eigen CG on request gives the exact solve's image to its tolerance (relative residual 1e-5: an MSE
+# far below 1e-8 on values near 1) and is named in the statistics and the STAT table (solver code 3).
+out=$("$bin/lt-reconstruct" in.lts --solver eigen-cg -o cg.lts 2>&1); code=$?
+ecg=$("$bin/lt-error" cg.lts --ref l2.lts --metric mse --csv mse.csv > /dev/null 2>&1 && awk -F, 'NR == 2 { print $7 }' mse.csv)
+check "eigen-cg: exit 0, named with its reason and residual, same image (mse $ecg)" '[ $code -eq 0 ] &&
+  echo "$out" | grep -Eq "^lt-reconstruct: l2, alpha 0.2, 48x32: 3 solves with EIGEN_CG \(requested\), 3 iterations, [0-9]+ linear solver iterations, relative residual <= " &&
+  awk -v e="$ecg" "BEGIN { exit !(e < 1e-8) }" &&
+  "$bin/lt-inspect" cg.lts --json | python3 -c "
+import json, sys
+t = [s for s in json.load(sys.stdin)[\"stats\"] if s[\"name\"] == \"reconstruct\"][0]
+assert dict(zip(t[\"rows\"], [r[0] for r in t[\"values\"]]))[\"solver\"] == 3
+"'
+# auto takes Eigen CG above 64x64 pixels and says why.
+"$bin/lt-bench-gradient-input" --width 80 --height 60 -o big.lts
+out=$("$bin/lt-reconstruct" big.lts -o big.exr 2>&1); code=$?
+check "auto: eigen-cg above 4096 pixels" '[ $code -eq 0 ] &&
+  echo "$out" | grep -q "3 solves with EIGEN_CG (auto: 4800 > 4096 pixels)"'
 
 # The same input as a multi-layer EXR, as separate files (each file's primal, dx, dy layer) and on a pipe.
 "$bin/lt-image" in.lts -o layers.exr 2>/dev/null
@@ -74,6 +92,7 @@ check "truncated file: one error line naming it" '[ $code -ne 0 ] && [ "$(echo "
 bad "no input" "lt-reconstruct: error: no input: give IN, or --primal, --dx and --dy" -o bad.lts
 
 check "--help explains the conventions" '"$bin/lt-reconstruct" --help | grep -q "forward differences" &&
-  "$bin/lt-reconstruct" --help | grep -q "enters the L2 objective squared"'
+  "$bin/lt-reconstruct" --help | grep -q "enters the L2 objective squared" &&
+  "$bin/lt-reconstruct" --help | grep -q "eigen-cg"'
 
 exit $fail

@@ -1,0 +1,86 @@
+#include "reconstruct/normal_equations.h"
+
+#include <Eigen/IterativeLinearSolvers>
+
+namespace lt {
+
+namespace {
+
+// The weight of a residual: the square of its sqrt-weight, as Ceres sees it (so both backends solve the
+// same equations), or 1 without weights.
+double weight(const std::vector<float>& sqrtWeights, size_t p) {
+    if (sqrtWeights.empty()) return 1.0;
+    const double s = sqrtWeights[p];
+    return s * s;
+}
+
+} // namespace
+
+void assembleNormalMatrix(uint32_t width, uint32_t height, double alpha, const ResidualWeights& weights,
+                          NormalMatrix& A) {
+    const uint32_t W = width, H = height;
+    const size_t N = size_t(W) * H;
+    // Interior rows have 5 entries; the border loses one per missing neighbour.
+    const size_t nonZeros = 5 * N - 2 * size_t(H) - 2 * size_t(W);
+    if (size_t(A.rows()) != N || size_t(A.nonZeros()) != nonZeros) {
+        A.resize(Eigen::Index(N), Eigen::Index(N));
+        A.resizeNonZeros(Eigen::Index(nonZeros));
+    }
+    // Filled in place in compressed storage: a triplet list would cost 80 bytes per pixel more.
+    int* outer = A.outerIndexPtr();
+    int* inner = A.innerIndexPtr();
+    double* value = A.valuePtr();
+    size_t k = 0;
+    const double alpha2 = alpha * alpha;
+    for (uint32_t y = 0; y < H; ++y)
+        for (uint32_t x = 0; x < W; ++x) {
+            const size_t p = size_t(y) * W + x;
+            outer[p] = int(k);
+            // Row p of Dx^T W_x Dx: the differences (p-1, p) and (p, p+1) that contain pixel p.
+            const double left = x > 0 ? weight(weights.dx, p - 1) : 0, right = x + 1 < W ? weight(weights.dx, p) : 0;
+            const double up = y > 0 ? weight(weights.dy, p - W) : 0, down = y + 1 < H ? weight(weights.dy, p) : 0;
+            const auto put = [&](size_t column, double v) {
+                inner[k] = int(column);
+                value[k++] = v;
+            };
+            // Columns in increasing order, as compressed storage requires.
+            if (y > 0) put(p - W, -up);
+            if (x > 0) put(p - 1, -left);
+            put(p, alpha2 * weight(weights.primal, p) + left + right + up + down);
+            if (x + 1 < W) put(p + 1, -right);
+            if (y + 1 < H) put(p + W, -down);
+        }
+    outer[N] = int(k);
+}
+
+void normalRightHandSide(const GradientImage& image, size_t c, double alpha, const ResidualWeights& weights,
+                         Eigen::VectorXd& b) {
+    const uint32_t W = image.width, H = image.height;
+    const float *P = image.primal[c].data(), *gx = image.dx[c].data(), *gy = image.dy[c].data();
+    b.resize(Eigen::Index(image.pixels()));
+    const double alpha2 = alpha * alpha;
+    for (uint32_t y = 0; y < H; ++y)
+        for (uint32_t x = 0; x < W; ++x) {
+            const size_t p = size_t(y) * W + x;
+            // (Dx^T v)_p = v_{p-1} - v_p, the two differences that contain pixel p.
+            double v = alpha2 * weight(weights.primal, p) * P[p];
+            if (x > 0) v += weight(weights.dx, p - 1) * gx[p - 1];
+            if (x + 1 < W) v -= weight(weights.dx, p) * gx[p];
+            if (y > 0) v += weight(weights.dy, p - W) * gy[p - W];
+            if (y + 1 < H) v -= weight(weights.dy, p) * gy[p];
+            b[Eigen::Index(p)] = v;
+        }
+}
+
+ConjugateGradientResult solveNormalEquations(const NormalMatrix& A, const Eigen::VectorXd& b, double tolerance,
+                                             int maxIterations, Eigen::Ref<Eigen::VectorXd> x) {
+    Eigen::ConjugateGradient<NormalMatrix, Eigen::Lower | Eigen::Upper, Eigen::DiagonalPreconditioner<double>> cg;
+    cg.setTolerance(tolerance);
+    cg.setMaxIterations(maxIterations);
+    cg.compute(A);
+    // x is the guess and the result: Eigen copies the guess into the destination first, a no-op here.
+    x = cg.solveWithGuess(b, x);
+    return {int(cg.iterations()), cg.error()};
+}
+
+} // namespace lt

@@ -86,9 +86,10 @@ TEST_CASE("camera: importance and emission density integrate to one over the cro
         const double sw = std::sqrt((sumW2 / n - mw * mw) / n), sp = std::sqrt((sumP2 / n - mp * mp) / n);
         INFO("crop " << crop << ": W_e cos integral " << mw << " +- " << sw << ", pdfDir integral " << mp
                      << " +- " << sp);
-        // Normalized over the crop window, both extend over the filter margin around it: the integral is
-        // the grown window's area over the window's (areas on the image plane scale with raster extents).
-        const double m = film.filter.radius;
+        // Normalized over the crop window, both extend over the sensor margin around it (where border
+        // pixels' filters reach): the integral is the grown window's area over the window's (areas on the
+        // image plane scale with raster extents).
+        const double m = cam.sensorMargin();
         const double cw = crop ? 30 : 64, ch = crop ? 20 : 48;
         const double grown = (cw + 2 * m) * (ch + 2 * m) / (cw * ch);
         CHECK(std::abs(mw - grown) <= 5 * sw);

@@ -1,5 +1,6 @@
-// lt-mutate: Markov-chain Monte Carlo rendering (ALGORITHMS.md 1.4, 8): Kelemen's primary-sample-space
-// MLT and multiplexed MLT over lt's BDPT, with per-strategy statistics, snapshots and Ctrl-C.
+// lt-mutate: Markov-chain Monte Carlo rendering (ALGORITHMS.md 1.4, 2, 8): path-space MLT started from
+// seed paths, Kelemen's primary-sample-space MLT and multiplexed MLT over lt's BDPT, with per-strategy
+// statistics, snapshots and Ctrl-C.
 #include <cmath>
 #include <iomanip>
 #include <iostream>
@@ -10,12 +11,16 @@
 #include "common/scene_options.h"
 #include "common/tool.h"
 #include "formats/ltfile.h"
+#include "mcmc/path_space_chains.h"
 #include "mcmc/primary_space_chains.h"
+#include "mcmc/strategy_selection.h"
 
 using lt::tool::formatSeconds;
 
 int main(int argc, char** argv) {
-    CLI::App app{"lt-mutate: render a Mitsuba scene with Markov chains. --space primary is Kelemen's primary-sample-"
+    CLI::App app{"lt-mutate: render a Mitsuba scene with Markov chains. --space path (default) is Veach-Guibas "
+                 "path-space MLT: chains of whole paths started from seed paths (a file from lt-seed --paths, or a "
+                 "BDPT start-up of its own), mutated by --strategies. --space primary is Kelemen's primary-sample-"
                  "space MLT over BDPT (every (s,t) strategy of a sample accepted or rejected together); --space "
                  "multiplexed is Hachisuka's multiplexed MLT (one (s,t) strategy per sample, chosen by the chain, "
                  "chains grouped by path length). Chains start from a start-up run that estimates the normalization "
@@ -23,7 +28,7 @@ int main(int argc, char** argv) {
                  "mutation count give a bit-identical image whatever the thread count. Prints per-strategy "
                  "statistics and stores them in the output. Ctrl-C stops early and still writes a valid file.",
                  "lt-mutate"};
-    std::string scenePath, seedsPath, out, space = "multiplexed", resolution, snapshotTimes, snapshotMutations,
+    std::string scenePath, seedsPath, out, space = "path", resolution, snapshotTimes, snapshotMutations,
                                            strategies = "auto", dumpPaths;
     uint64_t mutations = 0, seed = 0, startupSamples = 100000;
     double timeLimit = 0, mutationsPerPixel = 0, largeStep = 0.3;
@@ -32,9 +37,13 @@ int main(int argc, char** argv) {
     bool quiet = false;
     std::vector<std::string> defines;
     app.add_option("SCENE", scenePath, "Mitsuba 0.5/0.6 scene (.xml)")->required();
-    app.add_option("SEEDS", seedsPath, "seed paths from lt-seed --paths (.ltp, or - for stdin); used by --space path");
+    app.add_option("SEEDS", seedsPath,
+                   "seed paths from lt-seed --paths (.ltp, or - for stdin) for --space path; "
+                   "without it the tool seeds itself with BDPT");
     app.add_option("-o,--output", out, "output sample buffer (.lts), or - for stdout")->required();
-    app.add_option("--space", space, "primary (Kelemen PSSMLT) or multiplexed (default; Hachisuka MMLT)")
+    app.add_option("--space", space,
+                   "path (default; Veach-Guibas MLT), primary (Kelemen PSSMLT) or multiplexed "
+                   "(Hachisuka MMLT)")
         ->check(CLI::IsMember({"primary", "multiplexed", "path"}));
     app.add_option("--strategies", strategies,
                    "path-space mutations (auto); primary spaces have their own two: "
@@ -42,8 +51,7 @@ int main(int argc, char** argv) {
     app.add_option("--mutations", mutations, "total mutations over all chains")->check(CLI::PositiveNumber);
     app.add_option("--mutations-per-pixel", mutationsPerPixel, "total mutations as a multiple of the pixel count")
         ->check(CLI::PositiveNumber);
-    app.add_option("--time", timeLimit, "run for this many seconds, start-up included")
-        ->check(CLI::PositiveNumber);
+    app.add_option("--time", timeLimit, "run for this many seconds, start-up included")->check(CLI::PositiveNumber);
     app.add_option("--chains", chains, "independent chains (default 256, whatever the thread count)")
         ->check(CLI::PositiveNumber);
     app.add_option("--threads", threads, "worker threads (default: all cores)")->check(CLI::NonNegativeNumber);
@@ -58,7 +66,7 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(0.0, 1.0));
     app.add_option("--startup-samples", startupSamples,
                    "independent samples that estimate b and seed the chains (default 100000; multiplexed: spread "
-                   "over the path lengths)")
+                   "over the path lengths; path space without a seed file: BDPT samples)")
         ->check(CLI::PositiveNumber);
     app.add_option("--round", round,
                    "mutations per chain between merges (default 64; sets the granularity of "
@@ -76,13 +84,12 @@ int main(int argc, char** argv) {
     app.add_flag("-q,--quiet", quiet, "no progress output");
 
     return lt::tool::run(app, argc, argv, [&] {
-        if (space == "path")
-            throw lt::Error("--space path (Veach's bidirectional mutation and perturbations) is not built yet; use "
-                            "--space primary or --space multiplexed");
-        if (!dumpPaths.empty() || dumpEvery) throw lt::Error("--dump-paths needs --space path");
-        if (app.count("--strategies") && strategies != "auto")
+        if (!dumpPaths.empty() || dumpEvery) throw lt::Error("--dump-paths is not built yet");
+        if (space != "path" && app.count("--strategies") && strategies != "auto")
             throw lt::Error("--strategies selects path-space mutations; --space " + space +
                             " has its own (large and small steps, --large-step)");
+        if (space == "path" && (app.count("--large-step") || app.count("--max-length-unbounded")))
+            throw lt::Error("--large-step and --max-length-unbounded are for --space primary and multiplexed");
         const int bounds = (mutations > 0) + (mutationsPerPixel > 0);
         if (bounds > 1) throw lt::Error("give --mutations or --mutations-per-pixel, not both");
         if (bounds == 0 && !(timeLimit > 0)) throw lt::Error("give --mutations, --mutations-per-pixel or --time");
@@ -90,22 +97,29 @@ int main(int argc, char** argv) {
             throw lt::Error("give --snapshots or --snapshot-mutations, not both");
         auto scene = lt::tool::loadSceneWithOptions("lt-mutate", scenePath, defines, resolution, quiet);
 
-        // Seeds are path-space states; the primary spaces start from their own start-up samples, whose
-        // b integrates the same target in their own measure. A seed file is still checked and its b shown.
+        // Seeds are path-space states: path-space chains start from them; the primary spaces start from
+        // their own start-up samples, whose b integrates the same target in their own measure.
+        lt::PathSpaceSeeds seeds;
         double seedB = -1;
         if (!seedsPath.empty()) {
-            const auto seeds = lt::file::readAll(seedsPath, lt::file::FileKind::Paths);
-            lt::file::checkSceneHash(seeds.info, scene->contentHash, seedsPath == "-" ? "<stdin>" : seedsPath,
-                                     scenePath);
-            for (const auto& t : seeds.stats)
+            auto content = lt::file::readAll(seedsPath, lt::file::FileKind::Paths);
+            const std::string name = seedsPath == "-" ? "<stdin>" : seedsPath;
+            lt::file::checkSceneHash(content.info, scene->contentHash, name, scenePath);
+            for (const auto& t : content.stats)
                 if (t.name == "normalization")
                     for (size_t r = 0; r < t.rows.size(); ++r)
                         if (t.rows[r] == "b" && !t.values[r].empty()) seedB = t.values[r][0];
-            if (!quiet)
+            if (!(seedB >= 0))
+                throw lt::Error(name +
+                                ": no normalization b (STAT \"normalization\"); was it written by lt-seed --paths?");
+            seeds.paths = std::move(content.paths);
+            seeds.b = seedB;
+            if (space != "path" && !quiet)
                 std::cerr << "lt-mutate: --space " << space << " starts its chains from its own start-up samples; the "
                           << seeds.paths.size() << " seed paths are for --space path (their b = " << seedB << ")\n";
         }
 
+        const bool pathSpace = space == "path";
         lt::PrimarySpaceSettings ps;
         ps.space = space == "primary" ? lt::PrimarySpace::Kelemen : lt::PrimarySpace::Multiplexed;
         ps.bdpt.maxDepth = maxDepth != -2 ? maxDepth : scene->integrator.maxDepth;
@@ -115,7 +129,7 @@ int main(int argc, char** argv) {
         ps.unboundedEdges = unbounded;
         ps.largeStepProbability = largeStep;
         ps.startupSamples = startupSamples;
-        if (!quiet && ps.space == lt::PrimarySpace::Multiplexed && ps.bdpt.maxDepth < 0)
+        if (!quiet && !pathSpace && ps.space == lt::PrimarySpace::Multiplexed && ps.bdpt.maxDepth < 0)
             std::cerr << "lt-mutate: warning: the max depth is unbounded; multiplexed chains cover paths of up to "
                       << unbounded << " edges (--max-length-unbounded)\n";
 
@@ -146,37 +160,70 @@ int main(int argc, char** argv) {
                                  {"resolution", {scene->camera.film().width, scene->camera.film().height}},
                                  {"filter", scene->camera.film().filter.name()},
                                  {"estimator", "expected-value splatting; image = b / N sum f / f* at each state"}};
-        if (ps.space == lt::PrimarySpace::Multiplexed)
-            params["max_length"] = ps.bdpt.maxDepth > 0 ? ps.bdpt.maxDepth : unbounded;
+        // Path space: the strategies, and the longest path the bidirectional mutation may build.
+        const int maxEdges = ps.bdpt.maxDepth > 0 ? ps.bdpt.maxDepth : unbounded;
+        lt::StrategyChoice choice;
+        if (pathSpace) {
+            choice = lt::chooseStrategies(strategies, lt::analyzeScene(*scene));
+            nlohmann::json list = nlohmann::json::array();
+            for (const auto& e : choice.chosen)
+                list.push_back({{"name", e.name}, {"weight", e.weight}});
+            params["strategies"] = list;
+            params["max_length"] = maxEdges;
+            for (const auto& why : choice.leftOut)
+                if (!quiet) std::cerr << "lt-mutate: left out: " << why << '\n';
+            if (!quiet && ps.bdpt.maxDepth < 0)
+                std::cerr << "lt-mutate: warning: the max depth is unbounded; the bidirectional mutation builds paths "
+                             "of up to "
+                          << unbounded << " edges (--max-length-unbounded)\n";
+        } else if (ps.space == lt::PrimarySpace::Multiplexed) {
+            params["max_length"] = maxEdges;
+        }
         lt::file::Writer writer(out, lt::file::FileKind::Buffer,
                                 lt::tool::makeInfo("lt-mutate", argc, argv, params, scene.get()));
 
         lt::tool::installInterruptHandler();
         lt::tool::Progress progress("lt-mutate", quiet);
-        const auto stats = lt::runPrimarySpaceChains(
-            *scene, ps, rs, film,
-            [&](const lt::ChainRunProgress& p) {
-                std::ostringstream d;
-                if (std::string(p.phase) == "start-up") {
-                    d << "start-up, " << formatSeconds(p.wallSeconds);
-                } else {
-                    d << std::setprecision(3) << double(p.mutations) / pixels << " mutations/pixel, "
-                      << formatSeconds(p.wallSeconds);
-                    if (p.fraction > 0.02 && p.fraction < 1)
-                        d << ", " << formatSeconds(p.wallSeconds * (1 / p.fraction - 1)) << " left";
-                }
-                progress.update(p.fraction, d.str());
-            },
-            &lt::tool::stopRequested(),
-            [&](const lt::ChainRunProgress& p, const lt::SampleFilm& f) {
-                lt::file::Snapshot snap;
-                snap.wallSeconds = p.wallSeconds;
-                snap.cpuSeconds = p.cpuSeconds;
-                snap.samples = p.mutations;
-                snap.overheadSeconds = p.snapshotSeconds;
-                snap.buffer = f.toBuffer();
-                writer.writeSnapshot(snap);
-            });
+        const lt::ChainProgressCallback onProgress = [&](const lt::ChainRunProgress& p) {
+            std::ostringstream d;
+            if (std::string(p.phase) == "start-up") {
+                d << "start-up, " << formatSeconds(p.wallSeconds);
+            } else {
+                d << std::setprecision(3) << double(p.mutations) / pixels << " mutations/pixel, "
+                  << formatSeconds(p.wallSeconds);
+                if (p.fraction > 0.02 && p.fraction < 1)
+                    d << ", " << formatSeconds(p.wallSeconds * (1 / p.fraction - 1)) << " left";
+            }
+            progress.update(p.fraction, d.str());
+        };
+        const lt::ChainSnapshotCallback onSnapshot = [&](const lt::ChainRunProgress& p, const lt::SampleFilm& f) {
+            lt::file::Snapshot snap;
+            snap.wallSeconds = p.wallSeconds;
+            snap.cpuSeconds = p.cpuSeconds;
+            snap.samples = p.mutations;
+            snap.overheadSeconds = p.snapshotSeconds;
+            snap.buffer = f.toBuffer();
+            writer.writeSnapshot(snap);
+        };
+        lt::ChainRunStats stats;
+        if (pathSpace) {
+            if (seeds.paths.empty()) {
+                // No seed file: a BDPT start-up of our own, as lt-seed --paths would make it.
+                progress.update(-1, "seeding with BDPT");
+                seeds = lt::seedWithBdpt(*scene, ps.bdpt, startupSamples, size_t(std::max(4 * chains, 1024)),
+                                         seed ^ 0x5eedULL, threads, &lt::tool::stopRequested());
+                if (!quiet)
+                    std::cerr << "lt-mutate: seeded with BDPT (" << startupSamples << " samples): b = " << seeds.b
+                              << '\n';
+            }
+            std::vector<std::unique_ptr<lt::Mutation>> owned;
+            std::vector<lt::WeightedMutation> mix;
+            lt::makeMutations(choice, *scene, maxEdges, owned, mix);
+            stats = lt::runPathSpaceChains(*scene, seeds, mix, rs, film, onProgress, &lt::tool::stopRequested(),
+                                           onSnapshot);
+        } else {
+            stats = lt::runPrimarySpaceChains(*scene, ps, rs, film, onProgress, &lt::tool::stopRequested(), onSnapshot);
+        }
         progress.finish();
 
         writer.writeBuffer(film.toBuffer());
@@ -199,13 +246,17 @@ int main(int argc, char** argv) {
         writer.writeStats(runTable);
         lt::file::StatTable norm{
             "normalization", {"value"}, {"b", "startup_samples"}, {{stats.b}, {double(stats.startupSamples)}}};
+        if (pathSpace) {
+            norm.rows.push_back("unusable_seeds");
+            norm.values.push_back({double(stats.unusableSeeds)});
+        }
         if (seedB >= 0) {
             norm.rows.push_back("b_seed_file");
             norm.values.push_back({seedB});
         }
         writer.writeStats(norm);
         writer.writeStats(stats.strategies.table());
-        if (ps.space == lt::PrimarySpace::Multiplexed) {
+        if (!pathSpace && ps.space == lt::PrimarySpace::Multiplexed) {
             lt::file::StatTable lengths{"path_lengths", {"b", "chains"}, {}, {}};
             for (size_t k = 1; k < stats.bPerLength.size(); ++k) {
                 lengths.rows.push_back(std::to_string(k) + " edges");
@@ -216,10 +267,14 @@ int main(int argc, char** argv) {
         writer.finish();
 
         if (!quiet) {
-            std::cerr << "lt-mutate: b = " << stats.b << " from " << stats.startupSamples << " start-up samples ("
-                      << formatSeconds(stats.startupSeconds) << ")\n"
-                      << stats.strategies.text();
-            if (ps.space == lt::PrimarySpace::Multiplexed) {
+            if (pathSpace)
+                std::cerr << "lt-mutate: b = " << stats.b << ", chains started from " << stats.startupSamples
+                          << " seed paths (" << stats.unusableSeeds << " unusable draws skipped)\n";
+            else
+                std::cerr << "lt-mutate: b = " << stats.b << " from " << stats.startupSamples << " start-up samples ("
+                          << formatSeconds(stats.startupSeconds) << ")\n";
+            std::cerr << stats.strategies.text();
+            if (!pathSpace && ps.space == lt::PrimarySpace::Multiplexed) {
                 std::cerr << "chains per path length (edges: chains, share of b):";
                 for (size_t k = 1; k < stats.bPerLength.size(); ++k)
                     if (stats.chainsPerLength[k] > 0)

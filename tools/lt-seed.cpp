@@ -95,8 +95,9 @@ int main(int argc, char** argv) {
             pparams["max_paths"] = maxPaths;
             pparams["selection"] = "independent draws with replacement, each proportional to weight over all "
                                    "candidates (K weighted reservoirs of size one): pick uniformly among them";
-            pparams["b_convention"] = "STAT normalization.b = integral of luminance(f) over the image plane = sum "
-                                      "over pixels of the pixel measurement";
+            pparams["b_convention"] = "STAT normalization.b = integral over the sensor's raster positions of (crop "
+                                      "pixels) x luminance(f), the Markov chains' normalization; camera-strategy "
+                                      "weights are divided by the sum of the pixel filters at their raster position";
             pathWriter.emplace(pathsOut, lt::file::FileKind::Paths,
                                lt::tool::makeInfo("lt-seed", argc, argv, pparams, scene.get()));
             reservoir.emplace(maxPaths, seed ^ 0x9e3779b97f4a7c15ULL);
@@ -153,9 +154,7 @@ int main(int argc, char** argv) {
         writer.finish();
 
         if (pathWriter) {
-            // b: the integral of luminance over the image (ALGORITHMS.md 1.3), i.e. the sum over pixels of
-            // the pixel measurement: the candidates' weights sum to it times (samples / pixels).
-            const double b = stats.samples > 0 ? reservoir->totalWeight() * pixels / double(stats.samples) : 0.0;
+            const double b = reservoir->normalization(stats.samples, pixels);
             const auto draws = reservoir->draws();
             lt::file::StatTable normTable{"normalization", {"value"}, {"b", "samples", "candidates", "kept"},
                                           {{b}, {double(stats.samples)}, {double(reservoir->candidates())},

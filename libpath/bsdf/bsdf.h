@@ -51,6 +51,13 @@ struct InterfaceEta {
     double exterior = 1;     // above the shading normal (outside)
 };
 
+// How close wo must come to a delta lobe's exact direction for deltaEval to accept it. Directions
+// recomputed from vertex positions miss it a little: rays leave surfaces from an offset origin
+// (scene/ray.h) and hits carry float barycentrics, which on an edge of 1e-2 scene units turns the
+// direction by up to ~1e-3. The lobes of one wi lie far apart (except within a fraction of a degree of
+// grazing), so this does not confuse them.
+inline constexpr double DeltaDirectionTolerance = 1e-3;
+
 class Bsdf {
 public:
     virtual ~Bsdf() = default;
@@ -65,8 +72,8 @@ public:
                                                            const Vec2& u) const = 0;
 
     // For delta lobes: the weight and discrete probability that sample() would return for a given
-    // (wi, wo) pair when wo is the lobe's exact specular direction (reflected or refracted); nothing when wo
-    // is not such a direction (tolerance 1e-6 in direction). The manifold walks use this after moving a
+    // (wi, wo) pair when wo is the lobe's specular direction (reflected or refracted); nothing when wo
+    // is not such a direction (within DeltaDirectionTolerance). The manifold walks use this after moving a
     // specular chain, and the tests check that it agrees with sample().
     [[nodiscard]] virtual std::optional<BsdfSample> deltaEval(const Vec3& wi, const Vec3& wo, const Vec2& uv,
                                                                Transport mode) const {

@@ -31,7 +31,7 @@ std::optional<BsdfSample> Conductor::sample(const Vec3& wi, const Vec2& uv, Tran
 
 std::optional<BsdfSample> Conductor::deltaEval(const Vec3& wi, const Vec3& wo, const Vec2& uv, Transport mode) const {
     auto s = sample(wi, uv, mode, 0, {});
-    if (s && length(s->wo - wo) < 1e-6) return s;
+    if (s && length(s->wo - wo) < DeltaDirectionTolerance) return s;
     return std::nullopt;
 }
 

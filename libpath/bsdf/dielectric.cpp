@@ -52,7 +52,7 @@ std::optional<BsdfSample> Dielectric::sample(const Vec3& wi, const Vec2& uv, Tra
 std::optional<BsdfSample> Dielectric::deltaEval(const Vec3& wi, const Vec3& wo, const Vec2& uv, Transport mode) const {
     for (const bool reflect : {true, false}) {
         auto s = lobeSample(wi, uv, mode, reflect);
-        if (s && length(s->wo - wo) < 1e-6) return s;
+        if (s && length(s->wo - wo) < DeltaDirectionTolerance) return s;
     }
     return std::nullopt;
 }

@@ -61,7 +61,7 @@ std::optional<BsdfSample> Plastic::deltaEval(const Vec3& wi, const Vec3& wo, con
     if (wi.z <= 0) return std::nullopt;
     BsdfSample s;
     s.wo = Vec3(-wi.x, -wi.y, wi.z);
-    if (length(s.wo - wo) >= 1e-6) return std::nullopt;
+    if (length(s.wo - wo) >= DeltaDirectionTolerance) return std::nullopt;
     const double Fi = fresnelDielectric(wi.z, eta_);
     s.pdf = specularProbability(Fi);
     if (!(s.pdf > 0)) return std::nullopt;

@@ -12,6 +12,26 @@ SampleFilm::SampleFilm(const PerspectiveCamera& camera) : filter_(camera.film().
     count_.assign(window_.area(), 0);
 }
 
+template <class F> void SampleFilm::forEachPixel(const Vec2& raster, F&& f) const {
+    // Pixels whose filter support contains the position: centers within the radius of it.
+    const double r = filter_.radius();
+    const int xa = std::max(window_.x0, int(std::ceil(raster.x - r - 0.5)));
+    const int xb = std::min(window_.x1 - 1, int(std::floor(raster.x + r - 0.5)));
+    const int ya = std::max(window_.y0, int(std::ceil(raster.y - r - 0.5)));
+    const int yb = std::min(window_.y1 - 1, int(std::floor(raster.y + r - 0.5)));
+    for (int y = ya; y <= yb; ++y)
+        for (int x = xa; x <= xb; ++x) {
+            const double w = filter_.eval({raster.x - (x + 0.5), raster.y - (y + 0.5)});
+            if (w != 0) f(size_t(y - window_.y0) * size_t(width()) + size_t(x - window_.x0), w);
+        }
+}
+
+double SampleFilm::filterSum(const Vec2& raster) const {
+    double sum = 0;
+    forEachPixel(raster, [&](size_t, double w) { sum += w; });
+    return sum;
+}
+
 void SampleFilm::merge(const TileResult& tile) {
     for (int y = tile.rect.y0; y < tile.rect.y1; ++y)
         for (int x = tile.rect.x0; x < tile.rect.x1; ++x) {
@@ -21,21 +41,10 @@ void SampleFilm::merge(const TileResult& tile) {
             count_[dst] += tile.count[src];
             cameraSamples_ += tile.count[src];
         }
-    const double r = filter_.radius();
-    for (const auto& s : tile.splats) {
-        // Pixels whose filter support contains the splat: centers within r of it.
-        const int xa = std::max(window_.x0, int(std::ceil(s.raster.x - r - 0.5)));
-        const int xb = std::min(window_.x1 - 1, int(std::floor(s.raster.x + r - 0.5)));
-        const int ya = std::max(window_.y0, int(std::ceil(s.raster.y - r - 0.5)));
-        const int yb = std::min(window_.y1 - 1, int(std::floor(s.raster.y + r - 0.5)));
-        for (int y = ya; y <= yb; ++y)
-            for (int x = xa; x <= xb; ++x) {
-                const double w = filter_.eval({s.raster.x - (x + 0.5), s.raster.y - (y + 0.5)});
-                if (w == 0) continue;
-                const size_t dst = size_t(y - window_.y0) * size_t(width()) + size_t(x - window_.x0);
-                for (int c = 0; c < 3; ++c) splat_[3 * dst + size_t(c)] += w * s.value[c];
-            }
-    }
+    for (const auto& s : tile.splats)
+        forEachPixel(s.raster, [&](size_t dst, double w) {
+            for (int c = 0; c < 3; ++c) splat_[3 * dst + size_t(c)] += w * s.value[c];
+        });
     lightPaths_ += tile.lightPaths;
 }
 

@@ -52,6 +52,11 @@ public:
     }
 
     void merge(const TileResult& tile);
+    // Sum of the stored pixels' filters h_j at a raster position: 1 inside the image for box and tent,
+    // within about 1 % for the truncated gaussian, less near the border. The Markov chains' b integrates
+    // over raster positions, so seed paths of camera strategies (drawn from h_j around their pixel) are
+    // weighted by its inverse.
+    [[nodiscard]] double filterSum(const Vec2& raster) const;
 
     // The current estimate, RGB float, rows top to bottom, crop window only.
     [[nodiscard]] std::vector<float> develop() const;
@@ -64,6 +69,9 @@ public:
     [[nodiscard]] file::Buffer toBuffer() const;
 
 private:
+    // Calls f(index, h_j) for every stored pixel j whose filter support contains the raster position.
+    template <class F> void forEachPixel(const Vec2& raster, F&& f) const;
+
     PixelRect window_;
     FilterDensity filter_;
     std::vector<double> sum_, splat_;

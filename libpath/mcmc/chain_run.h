@@ -50,7 +50,8 @@ struct ChainRunStats {
     double b = 0;                     // the normalization used: integral of f* over the image
     std::vector<double> bPerLength;   // multiplexed: b of each path length (index = edges)
     std::vector<int> chainsPerLength; // multiplexed: chains given to each path length
-    uint64_t startupSamples = 0;
+    uint64_t startupSamples = 0;      // start-up samples (primary spaces) or seed paths (path space)
+    uint64_t unusableSeeds = 0;       // path space: seed draws that did not re-create in the scene
     MutationStatistics strategies;
     SampleHealth health;
     bool interrupted = false;

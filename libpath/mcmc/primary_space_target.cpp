@@ -18,31 +18,18 @@ BdptSettings withoutRussianRoulette(BdptSettings s) {
 
 PrimarySpaceTarget::PrimarySpaceTarget(const Scene& scene, const BdptSettings& settings, int unboundedEdges)
     : scene_(scene), bdpt_(scene, settings), fixedLength_(scene, withoutRussianRoulette(settings)),
-      maxEdges_(settings.maxDepth > 0 ? settings.maxDepth : unboundedEdges) {
-    const auto& f = scene.camera.film();
-    const double r = FilterDensity(f.filter).radius();
-    sensorX0_ = f.cropX - r;
-    sensorY0_ = f.cropY - r;
-    sensorW_ = f.cropWidth + 2 * r;
-    sensorH_ = f.cropHeight + 2 * r;
-    sensor_ = {int(std::floor(sensorX0_)), int(std::floor(sensorY0_)), int(std::ceil(sensorX0_ + sensorW_)),
-               int(std::ceil(sensorY0_ + sensorH_))};
-    cropPixels_ = double(f.cropWidth) * double(f.cropHeight);
-}
-
-Vec2 PrimarySpaceTarget::raster(const Vec2& u) const {
-    return {sensorX0_ + u.x * sensorW_, sensorY0_ + u.y * sensorH_};
-}
+      maxEdges_(settings.maxDepth > 0 ? settings.maxDepth : unboundedEdges), sensor_(scene.camera),
+      cropPixels_(double(scene.camera.film().cropWidth) * double(scene.camera.film().cropHeight)) {}
 
 double PrimarySpaceTarget::evaluateAll(SampleGenerator& u, std::vector<ImageContribution>& out,
                                        SampleHealth& health) const {
     out.clear();
     u.startStream(SampleGenerator::CameraStream);
-    const Vec2 r = raster(u.next2D());
+    const Vec2 r = sensor_.raster(u.next2D());
     thread_local std::vector<Splat> splats;
     splats.clear();
     const Spectrum L = bdpt_.sample(r, u, splats, health);
-    if (!L.isBlack()) out.push_back({r, L * (sensorW_ * sensorH_)});
+    if (!L.isBlack()) out.push_back({r, L * sensor_.area()});
     for (const auto& s : splats)
         out.push_back({s.raster, s.value * cropPixels_});
     return out.empty() ? 0.0 : targetValue(out);
@@ -57,7 +44,7 @@ double PrimarySpaceTarget::evaluateMultiplexed(int edges, SampleGenerator& u, st
     u.startStream(SampleGenerator::CameraStream);
     const int s = edges == 1 ? 0 : std::min(int(u.next1D() * strategies), strategies - 1);
     const int t = edges + 1 - s;
-    Vec2 r = raster(u.next2D());
+    Vec2 r = sensor_.raster(u.next2D());
     thread_local std::vector<PathVertex> camera, light;
     fixedLength_.cameraSubpath(r, u, camera, size_t(t));
     if (int(camera.size()) < t) return 0;
@@ -75,7 +62,7 @@ double PrimarySpaceTarget::evaluateMultiplexed(int edges, SampleGenerator& u, st
         ++health.nonFinite;
         return 0;
     }
-    out.push_back({r, c * (t == 1 ? cropPixels_ : sensorW_ * sensorH_)});
+    out.push_back({r, c * (t == 1 ? cropPixels_ : sensor_.area())});
     return targetValue(out);
 }
 

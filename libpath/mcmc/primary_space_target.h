@@ -17,6 +17,7 @@
 
 #include "image/film.h"
 #include "mcmc/image_contribution.h"
+#include "mcmc/sensor_window.h"
 #include "sampling/bdpt.h"
 
 namespace lt {
@@ -34,17 +35,13 @@ public:
                                SampleHealth& health) const;
 
     [[nodiscard]] int maxEdges() const { return maxEdges_; }
-    [[nodiscard]] const PixelRect& sensorWindow() const { return sensor_; }
 
 private:
-    [[nodiscard]] Vec2 raster(const Vec2& u) const;
-
     const Scene& scene_;
     Bdpt bdpt_;
     Bdpt fixedLength_; // multiplexed: no Russian roulette, subpaths have exactly s and t vertices
     int maxEdges_;
-    PixelRect sensor_;
-    double sensorX0_, sensorY0_, sensorW_, sensorH_;
+    SensorWindow sensor_;
     double cropPixels_;
 };
 

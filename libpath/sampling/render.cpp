@@ -92,7 +92,15 @@ RenderStats render(const Scene& scene, const RenderSettings& settings, SampleFil
                         std::vector<Splat> splats;
                         uint64_t pixel = 0;
                         const StrategyCallback collect = [&](const StrategyPath& sp) {
-                            item->candidates.push_back(toPathRecord(scene, sp, pixel, uint64_t(item->pass)));
+                            file::PathRecord rec = toPathRecord(scene, sp, pixel, uint64_t(item->pass));
+                            // Camera strategies drew their raster position from h_j around their pixel:
+                            // over all pixels, from sum_j h_j. Dividing by it makes the weights integrate
+                            // f* over raster positions, as the chains' b does (film.h filterSum).
+                            if (sp.t > 1) {
+                                const double h = film.filterSum(sp.raster);
+                                rec.weight = h > 0 ? rec.weight / h : 0.0;
+                            }
+                            item->candidates.push_back(std::move(rec));
                         };
                         for (int y = r.rect.y0; y < r.rect.y1; ++y)
                             for (int x = r.rect.x0; x < r.rect.x1; ++x) {

@@ -25,6 +25,11 @@ public:
     void add(const file::PathRecord& rec);
 
     [[nodiscard]] double totalWeight() const { return total_; }
+    // b, the integral of f* over the image (ALGORITHMS.md 1.3), from a run of `samples` camera samples
+    // over `pixels` pixels: the candidates' weights sum to b times samples / pixels.
+    [[nodiscard]] double normalization(uint64_t samples, double pixels) const {
+        return samples > 0 ? total_ * pixels / double(samples) : 0.0;
+    }
     [[nodiscard]] uint64_t candidates() const { return candidates_; }
     [[nodiscard]] size_t capacity() const { return slots_.size(); }
     // The K draws (fewer only when no candidate had weight); the same path may appear several times.

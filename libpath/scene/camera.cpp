@@ -119,10 +119,10 @@ std::optional<Vec2> PerspectiveCamera::rasterPosition(const Vec3& dirWorld) cons
     if (!(local.z > 0)) return std::nullopt;
     const Vec2 r{0.5 * film_.width * (1 - local.x / (local.z * tanHalfX_)),
                  0.5 * film_.height * (1 - local.y / (local.z * tanHalfY_))};
-    // The sensor responds on the crop window grown by the filter's radius: a border pixel's filter
-    // reaches that far, so its camera samples do, and light tracing must be able to reach the same
-    // raster positions or the MIS weights there would credit a strategy that cannot sample them.
-    const double m = film_.filter.radius;
+    // The sensor responds where some pixel's filter does (sensorMargin): its camera samples land there,
+    // and light tracing must be able to reach the same raster positions or the MIS weights there would
+    // credit a strategy that cannot sample them.
+    const double m = sensorMargin();
     if (!(r.x >= film_.cropX - m && r.x < film_.cropX + film_.cropWidth + m && r.y >= film_.cropY - m &&
           r.y < film_.cropY + film_.cropHeight + m))
         return std::nullopt;

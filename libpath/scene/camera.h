@@ -5,6 +5,7 @@
 // pixels of the FULL film, (0,0) at the top-left corner; a crop window selects the pixels rendered.
 #pragma once
 
+#include <algorithm>
 #include <optional>
 #include <string>
 
@@ -55,8 +56,12 @@ public:
 
     // Primary ray through a raster position (pixels of the full film).
     [[nodiscard]] Ray generateRay(const Vec2& raster) const;
+    // How far beyond the crop window the sensor responds: the border pixels' centers lie half a pixel
+    // inside it and their filters reach `radius` around them, so radius - 1/2 (0 for the box filter).
+    // Beyond it every pixel's filter is zero.
+    [[nodiscard]] double sensorMargin() const { return std::max(0.0, film_.filter.radius - 0.5); }
     // The raster position a world direction from the camera position maps to, if it falls inside the
-    // crop window grown by the pixel filter's radius, in front of the camera.
+    // crop window grown by sensorMargin(), in front of the camera.
     [[nodiscard]] std::optional<Vec2> rasterPosition(const Vec3& dirWorld) const;
     // Importance W_e for a direction leaving the pinhole (Veach thesis 8.1.2 / pbrt-v3 PerspectiveCamera::We):
     // 1 / (A cos^4 theta) over the crop window, A the window's area on the plane at distance 1; zero outside.

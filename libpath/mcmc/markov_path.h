@@ -1,0 +1,62 @@
+// The state of a path-space Markov chain (Veach-Guibas MLT, ALGORITHMS.md 2): a whole light path, light
+// to eye, with everything the mutations need to evaluate it and the densities of re-sampling its
+// vertices. evaluatePath() recomputes the contribution from the vertices alone ("verify this path from
+// scratch", STYLE.md after Mitsuba's verification.cpp); nothing cached survives a proposal unchecked.
+//
+// Specular vertices. A vertex that scattered through a delta lobe makes f a distribution: f_s = R
+// delta_perp, with delta_perp the Dirac delta in projected solid angle at the vertex (geometric normal)
+// and R = (lobe weight) x (lobe probability) as WorldBsdf::deltaEval reports it. Every path a chain
+// compares shares the same deltas (mutations keep or re-sample them together with their densities), so
+// lt strips each delta_perp, in light-to-eye orientation, from f and from the densities alike:
+// * f~ keeps R (importance transport, wi toward the light) and all geometry terms;
+// * a vertex sampled from the light side through a specular vertex has density prob G (prob: the lobe's
+//   discrete probability);
+// * one sampled from the eye side through it has density (R_imp / weight_rad) G: the delta of the
+//   reverse direction differs from the light-to-eye one by R_rad / R_imp (refraction scales projected
+//   solid angle by eta^2, Veach thesis 5.2), which is exactly what BDPT's throughput weights encode.
+// Ratios f~ / p~ then equal BDPT's f / p for every strategy, and f~ / f~* = f / f* for the image.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "formats/records.h"
+#include "mcmc/image_contribution.h"
+#include "mcmc/mutation_statistics.h"
+#include "mcmc/sensor_window.h"
+#include "path/vertex.h"
+
+namespace lt {
+
+struct MarkovPath {
+    std::vector<PathVertex> v; // light to eye: v[0] a light vertex, v.back() the camera vertex
+    Vec2 raster;               // where the last edge meets the image plane (pixels of the full film)
+    Spectrum f;                // f~ in image units: (crop pixels) x f, specular deltas stripped
+    double target = 0;         // f* = targetValue(f)
+
+    [[nodiscard]] int edges() const { return int(v.size()) - 1; }
+    // The image contribution: f at the raster position (splatted with the pixel filter).
+    [[nodiscard]] std::vector<ImageContribution> contribution() const { return {{raster, f}}; }
+};
+
+// Scattered through a delta lobe (the path's configuration at that vertex).
+[[nodiscard]] inline bool isSpecular(const PathVertex& v) { return v.type == VertexType::Surface && v.delta; }
+
+// Recompute raster, f and target from the vertices alone (and set every surface vertex's wi toward the
+// light side). Returns the cause when the path carries nothing: occluded, off the sensor, or zero.
+[[nodiscard]] std::optional<RejectCause> evaluatePath(const Scene& scene, MarkovPath& path);
+
+// The path of a stored seed record (lt-seed --paths), re-created in `scene` from shape, primitive and
+// barycentrics, then evaluated. Throws lt::Error naming the record when it does not fit the scene.
+[[nodiscard]] MarkovPath pathFromRecord(const Scene& scene, const file::PathRecord& record, size_t index);
+
+// Densities of re-sampling vertex i (delta-stripped, area measure; ALGORITHMS.md 1.2's pdf_fwd / pdf_rev):
+// from the light side (i = 0: choosing the light point; i = 1: emission from v[0]; otherwise scattering at
+// v[i-1] given v[i-2]) and from the eye side (scattering at v[i+1] given v[i+2]; i = k - 1: the camera
+// ray, uniform over the sensor window). Zero where the vertex cannot be sampled that way.
+[[nodiscard]] double densityFromLight(const Scene& scene, const std::vector<PathVertex>& v, size_t i);
+[[nodiscard]] double densityFromEye(const Scene& scene, const SensorWindow& sensor, const std::vector<PathVertex>& v,
+                                    size_t i);
+
+} // namespace lt

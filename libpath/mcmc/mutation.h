@@ -1,0 +1,35 @@
+// The contract every path-space mutation fulfils (STYLE.md, after Mitsuba's libbidir: each mutator
+// answers the same two questions, so the Metropolis-Hastings driver is one loop for all):
+// * is it suitable for a path (its selection probability is then w_m s_m(x) / sum_j w_j s_j(x), taken
+//   at both states: ALGORITHMS.md 1.4, pitfall P-3), and
+// * propose a path y from x, with Q(x -> y) = T(x -> y) / f*(y) and Q(y -> x) = T(y -> x) / f*(x),
+//   both computed from the two paths as they are (markov_path.h), never from values cached on the way.
+#pragma once
+
+#include <string>
+
+#include "math/rng.h"
+#include "mcmc/markov_path.h"
+
+namespace lt {
+
+struct Proposal {
+    MarkovPath y;
+    double forwardQ = 0;               // T(x -> y) / f*(y), selection probability excluded
+    double reverseQ = 0;               // T(y -> x) / f*(x)
+    std::optional<RejectCause> failed; // no path proposed, and why
+    // For the detailed-balance checks of the tests: the density the proposal actually sampled its new
+    // vertices with (multiplied step by step while sampling) and the one recomputed from scratch for
+    // the same sampling decisions.
+    double sampledDensity = 0, recomputedDensity = 0;
+};
+
+class Mutation {
+public:
+    virtual ~Mutation() = default;
+    [[nodiscard]] virtual std::string name() const = 0;
+    [[nodiscard]] virtual bool suitable(const MarkovPath& x) const = 0;
+    virtual void propose(const MarkovPath& x, Pcg32& rng, Proposal& out) const = 0;
+};
+
+} // namespace lt

@@ -1,0 +1,245 @@
+#include "mcmc/mutations/bidirectional_mutation.h"
+
+#include <cmath>
+#include <cstdlib>
+
+#include "bsdf/shading_correction.h"
+#include "math/frame.h"
+
+namespace lt {
+
+namespace {
+
+constexpr int MaxLengthChange = 8;
+
+double geometricWeight(int a, int b) { return std::ldexp(1.0, -std::abs(a - b)); }
+
+// A connection joins two vertices through their non-delta lobes (BDPT's rule).
+bool connectible(const PathVertex& v) {
+    if (v.type == VertexType::Surface) return !isSpecular(v) && v.isConnectible();
+    return v.isConnectible();
+}
+
+// The first admissible range start for kd deleted edges: l = -1 (the light vertex re-sampled) needs a
+// light that can move and at least the light vertex in the range.
+int lowestStart(bool lightMovable, int kd) { return lightMovable && kd >= 2 ? -1 : 0; }
+
+} // namespace
+
+BidirectionalMutation::BidirectionalMutation(const Scene& scene, int maxEdges)
+    : scene_(scene), maxEdges_(maxEdges), sensor_(scene.camera) {
+    for (size_t i = 0; i < scene.emitters.size(); ++i)
+        if (scene.emitters[i]->shape >= 0) areaEmitterMass_ += scene.emitterSelection.pmf(i);
+}
+
+bool BidirectionalMutation::lightMovable(const MarkovPath& path) const {
+    return areaEmitterMass_ > 0 && path.v[0].emitter && path.v[0].emitter->shape >= 0;
+}
+
+double BidirectionalMutation::deletedProbability(int k, bool lightMovable, int kd) const {
+    const int kdMax = lightMovable ? k + 1 : k;
+    if (kd < 1 || kd > kdMax) return 0;
+    double sum = 0;
+    for (int j = 1; j <= kdMax; ++j)
+        sum += geometricWeight(j, 2);
+    return geometricWeight(kd, 2) / sum;
+}
+
+double BidirectionalMutation::addedProbability(int k, int kd, int l, int ka) const {
+    auto admissible = [&](int a) {
+        const int length = k - kd + a;
+        return a >= 1 && std::abs(a - kd) <= MaxLengthChange && length >= 1 && length <= maxEdges_ &&
+               !(kd == 1 && a == 1) && !(l == -1 && a < 2);
+    };
+    if (!admissible(ka)) return 0;
+    double sum = 0;
+    for (int a = std::max(1, kd - MaxLengthChange); a <= kd + MaxLengthChange; ++a)
+        if (admissible(a)) sum += geometricWeight(a, kd);
+    return geometricWeight(ka, kd) / sum;
+}
+
+double BidirectionalMutation::rangeProbability(int k, bool lightMovable, int kd, int l, int ka) const {
+    const int lmin = lowestStart(lightMovable, kd);
+    if (l < lmin || l > k - kd) return 0;
+    return deletedProbability(k, lightMovable, kd) / double(k - kd - lmin + 1) * addedProbability(k, kd, l, ka);
+}
+
+double BidirectionalMutation::newVertexDensity(const MarkovPath& path, int lo, int hi, int split,
+                                               double* splitDensity) const {
+    const auto& v = path.v;
+    const int n = hi - lo + 1;
+    double sum = 0;
+    for (int s = 0; s <= n; ++s) {
+        const int c = lo + s; // the first vertex sampled from the eye side; the connection is (c - 1, c)
+        double p = 0;
+        if (c == 0 || (connectible(v[size_t(c) - 1]) && connectible(v[size_t(c)]))) {
+            p = 1;
+            for (int i = lo; i < c && p > 0; ++i)
+                p *=
+                    i == 0 ? densityFromLight(scene_, v, 0) / areaEmitterMass_ : densityFromLight(scene_, v, size_t(i));
+            for (int i = c; i <= hi && p > 0; ++i)
+                p *= densityFromEye(scene_, sensor_, v, size_t(i));
+        }
+        if (s == split && splitDensity) *splitDensity = p;
+        sum += p;
+    }
+    return sum / double(n + 1);
+}
+
+std::optional<PathVertex> BidirectionalMutation::trace(const Ray& ray) const {
+    const auto hit = scene_.intersect(ray);
+    if (!hit) return std::nullopt;
+    PathVertex v;
+    v.type = VertexType::Surface;
+    v.si = *hit;
+    v.bsdf = scene_.bsdfOf(v.si);
+    v.emitterIndex = scene_.shapes[size_t(v.si.shape)].emitter;
+    if (v.emitterIndex >= 0) v.emitter = scene_.emitters[size_t(v.emitterIndex)].get();
+    return v;
+}
+
+void BidirectionalMutation::propose(const MarkovPath& x, Pcg32& rng, Proposal& out) const {
+    out = Proposal{};
+    const int k = x.edges();
+    const bool movable = lightMovable(x);
+    // 1. The range and the new length: kd by inversion, l uniform, ka by inversion.
+    int kd = 1;
+    {
+        double u = rng.nextDouble();
+        const int kdMax = movable ? k + 1 : k;
+        for (kd = 1; kd < kdMax; ++kd) {
+            u -= deletedProbability(k, movable, kd);
+            if (u < 0) break;
+        }
+    }
+    const int lmin = lowestStart(movable, kd);
+    const int l = lmin + std::min(int(rng.nextDouble() * (k - kd - lmin + 1)), k - kd - lmin);
+    const int m = l + kd;
+    int ka = 0;
+    {
+        double u = rng.nextDouble();
+        for (int a = std::max(1, kd - MaxLengthChange); a <= kd + MaxLengthChange && ka == 0; ++a) {
+            const double p = addedProbability(k, kd, l, a);
+            if (p > 0 && (u -= p) < 0) ka = a;
+        }
+        if (ka == 0) {
+            // No admissible length (the path is at the maximum and nothing may be inserted): no proposal.
+            out.failed = RejectCause::ZeroContribution;
+            return;
+        }
+    }
+    const int s = std::min(int(rng.nextDouble() * ka), ka - 1); // light-side new vertices
+    const int t = ka - 1 - s;                                   // eye-side new vertices
+    auto fail = [&](RejectCause why) { out.failed = why; };
+
+    // 2. Sample the new vertices. `light` holds the prefix and the light-side vertices, `eye` the suffix
+    // and the eye-side vertices in eye-to-light order.
+    std::vector<PathVertex> light(x.v.begin(), x.v.begin() + (l + 1));
+    std::vector<PathVertex> eye(x.v.rbegin(), x.v.rbegin() + (k - m + 1));
+    double sampled = 1;
+    for (int i = 0; i < s; ++i) {
+        if (light.empty()) {
+            // The light vertex anew, on an area emitter.
+            const size_t index = scene_.emitterSelection.sample(rng.nextDouble());
+            const Emitter& e = *scene_.emitters[index];
+            if (e.shape < 0) return fail(RejectCause::ZeroContribution);
+            const Vec2 uPos(rng.nextDouble(), rng.nextDouble()), uDir(rng.nextDouble(), rng.nextDouble());
+            const EmissionSample es = e.sampleEmission(uPos, uDir);
+            if (!(es.pdfPos > 0)) return fail(RejectCause::ZeroContribution);
+            light.push_back(lightVertexAt(scene_, index, es.p, es.n, es.prim, es.coords));
+            sampled *= scene_.emitterSelection.pmf(index) / areaEmitterMass_ * es.pdfPos;
+            continue;
+        }
+        PathVertex& from = light.back();
+        Vec3 dir;
+        double pdfArea = 0;
+        std::optional<PathVertex> next;
+        if (light.size() == 1) {
+            // Emission from the light vertex: its direction law (cosine for area emitters) around its own
+            // normal, drawn from the emitter's sampler and carried into this vertex's frame.
+            const Vec2 uPos(rng.nextDouble(), rng.nextDouble()), uDir(rng.nextDouble(), rng.nextDouble());
+            const EmissionSample es = from.emitter->sampleEmission(uPos, uDir);
+            dir = from.isOnSurface() ? Frame::fromNormal(from.si.ng).toWorld(Frame::fromNormal(es.n).toLocal(es.d))
+                                     : es.d;
+            next = trace(from.isOnSurface() ? spawnRay(from.si.endpoint(), dir) : Ray{from.si.p, dir});
+            if (!next) return fail(RejectCause::ZeroContribution);
+            pdfArea = from.pdfLight(scene_, *next);
+        } else {
+            if (!from.bsdf) return fail(RejectCause::ZeroContribution);
+            const PathVertex& prev = light[light.size() - 2];
+            from.wi = from.directionTo(prev);
+            const WorldBsdf wb{*from.bsdf, from.si.shading, from.si.ng, from.si.uv};
+            const double uLobe = rng.nextDouble();
+            const auto bs = wb.sample(from.wi, Transport::Importance, uLobe, Vec2(rng.nextDouble(), rng.nextDouble()));
+            if (!bs || bs->weight.isBlack()) return fail(RejectCause::ZeroContribution);
+            from.delta = (bs->lobe & LobeDelta) != 0;
+            from.lobe = bs->lobe;
+            next = trace(spawnRay(from.si.endpoint(), bs->wo));
+            if (!next) return fail(RejectCause::ZeroContribution);
+            pdfArea = from.delta ? bs->pdf * geometryTerm(from, *next) : from.convertDensity(bs->pdf, *next);
+        }
+        sampled *= pdfArea;
+        light.push_back(*next);
+    }
+    for (int i = 0; i < t; ++i) {
+        PathVertex& from = eye.back();
+        std::optional<PathVertex> next;
+        double pdfArea = 0;
+        if (from.type == VertexType::Camera) {
+            const Vec2 raster = sensor_.raster(Vec2(rng.nextDouble(), rng.nextDouble()));
+            const Ray ray = scene_.camera.generateRay(raster);
+            next = trace(ray);
+            if (!next) return fail(RejectCause::ZeroContribution);
+            double pdfPos = 0, pdfDir = 0;
+            scene_.camera.pdfEmission(ray.d, pdfPos, pdfDir);
+            pdfArea = from.convertDensity(pdfDir * sensor_.cropToSensorDensity(), *next);
+        } else {
+            if (!from.bsdf) return fail(RejectCause::ZeroContribution);
+            const PathVertex& toward = eye[eye.size() - 2];
+            const Vec3 wEye = from.directionTo(toward);
+            const WorldBsdf wb{*from.bsdf, from.si.shading, from.si.ng, from.si.uv};
+            const double uLobe = rng.nextDouble();
+            const auto bs = wb.sample(wEye, Transport::Radiance, uLobe, Vec2(rng.nextDouble(), rng.nextDouble()));
+            if (!bs || bs->weight.isBlack()) return fail(RejectCause::ZeroContribution);
+            from.delta = (bs->lobe & LobeDelta) != 0;
+            from.lobe = bs->lobe;
+            next = trace(spawnRay(from.si.endpoint(), bs->wo));
+            if (!next) return fail(RejectCause::ZeroContribution);
+            if (from.delta) {
+                // The light-to-eye delta differs from the sampled one by R_imp / weight_rad (markov_path.h).
+                const auto imp = wb.deltaEval(bs->wo, wEye, Transport::Importance);
+                if (!imp || !(bs->weight.luminance() > 0)) return fail(RejectCause::ZeroContribution);
+                pdfArea = (imp->weight * imp->pdf).luminance() / bs->weight.luminance() * geometryTerm(from, *next);
+            } else {
+                pdfArea = from.convertDensity(bs->pdf, *next);
+            }
+        }
+        sampled *= pdfArea;
+        eye.push_back(*next);
+    }
+    // 3. Join: the eye side reached the light (l = -1, s = 0), or a deterministic connection.
+    if (light.empty()) {
+        PathVertex& end = eye.back();
+        if (!end.emitter || end.emitter->shape < 0) return fail(RejectCause::ZeroContribution);
+        end = lightVertexAt(scene_, size_t(end.emitterIndex), end.si.p, end.si.ng, end.si.prim, end.si.coords);
+    } else {
+        light.back().delta = false;
+        eye.back().delta = false;
+        if (!connectible(light.back()) || !connectible(eye.back())) return fail(RejectCause::ZeroContribution);
+    }
+    out.y.v = std::move(light);
+    out.y.v.insert(out.y.v.end(), eye.rbegin(), eye.rend());
+    if (const auto why = evaluatePath(scene_, out.y)) return fail(*why);
+
+    // 4. Q in both directions, from the two paths alone.
+    const int kNew = out.y.edges();
+    double splitDensity = 0;
+    const double forward = newVertexDensity(out.y, l + 1, l + ka - 1, s, &splitDensity);
+    const double reverse = newVertexDensity(x, l + 1, m - 1);
+    out.forwardQ = rangeProbability(k, movable, kd, l, ka) * forward / out.y.target;
+    out.reverseQ = rangeProbability(kNew, lightMovable(out.y), ka, l, kd) * reverse / x.target;
+    out.sampledDensity = sampled;
+    out.recomputedDensity = splitDensity;
+}
+
+} // namespace lt

@@ -1,0 +1,51 @@
+// Veach and Guibas' bidirectional mutation (ALGORITHMS.md 2.1): delete a range of vertices x_{l+1} ..
+// x_{m-1} and replace it by ka - 1 new vertices, s sampled from the light side (from x_l) and the rest
+// from the eye side (from x_m), joined by a deterministic connection. It changes path length and
+// configuration and regenerates whole paths, so it makes the chain ergodic; every other mutation is
+// mixed with it.
+//
+// Proposal (lt's choice; Mitsuba uses two-tailed geometric laws of the same shape):
+// * kd edges deleted, P(kd) proportional to 2^-|kd - 2| on the admissible kd;
+// * the range start l uniform over its admissible values; l = -1 deletes the light vertex too (it is
+//   then re-sampled on an area emitter; a point light's position is never re-sampled);
+// * ka edges added, P(ka) proportional to 2^-|ka - kd|, |ka - kd| <= 8, within the maximum length;
+// * the split s uniform in [0, ka - 1].
+// T(x -> y) sums over every split that could have produced y (ALGORITHMS.md 2.1 step 6); the reverse
+// move deletes the new range and re-adds kd edges.
+#pragma once
+
+#include "mcmc/mutation.h"
+
+namespace lt {
+
+class BidirectionalMutation final : public Mutation {
+public:
+    // maxEdges: the longest path the chain may reach (the scene's maxDepth, or a bound when unbounded).
+    BidirectionalMutation(const Scene& scene, int maxEdges);
+
+    [[nodiscard]] std::string name() const override { return "bidirectional"; }
+    [[nodiscard]] bool suitable(const MarkovPath&) const override { return true; }
+    void propose(const MarkovPath& x, Pcg32& rng, Proposal& out) const override;
+
+    // The probability of choosing (kd, l, ka) at a path of k edges; 0 when not admissible.
+    [[nodiscard]] double rangeProbability(int k, bool lightMovable, int kd, int l, int ka) const;
+    // Sum over the splits s' of the delta-stripped density of sampling the vertices lo .. hi of `path`
+    // (the new ones) that way, each split with probability 1 / (hi - lo + 2). `splitDensity` receives the
+    // density of split `split`.
+    [[nodiscard]] double newVertexDensity(const MarkovPath& path, int lo, int hi, int split = -1,
+                                          double* splitDensity = nullptr) const;
+    // Whether the light vertex of a path may be re-sampled (it lies on an area emitter).
+    [[nodiscard]] bool lightMovable(const MarkovPath& path) const;
+
+private:
+    [[nodiscard]] double deletedProbability(int k, bool lightMovable, int kd) const;
+    [[nodiscard]] double addedProbability(int k, int kd, int l, int ka) const;
+    [[nodiscard]] std::optional<PathVertex> trace(const Ray& ray) const;
+
+    const Scene& scene_;
+    int maxEdges_;
+    SensorWindow sensor_;
+    double areaEmitterMass_ = 0; // selection probability of the area emitters together
+};
+
+} // namespace lt

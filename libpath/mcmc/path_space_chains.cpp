@@ -1,0 +1,152 @@
+#include "mcmc/path_space_chains.h"
+
+#include <chrono>
+
+#include "math/error.h"
+#include "sampling/render.h"
+
+namespace lt {
+
+namespace {
+
+Pcg32 chainStream(uint64_t seed, uint64_t chain) { return Pcg32(mixBits(mixBits(seed ^ 0x9a7c4a1ULL) + chain), chain); }
+
+class PathSpaceChain final : public MarkovChain {
+public:
+    PathSpaceChain(const std::vector<WeightedMutation>& mutations, MarkovPath start, Pcg32 rng)
+        : mutations_(mutations), x_(std::move(start)), rng_(rng), stats_(names(mutations)) {
+        position_.contributions = x_.contribution();
+        position_.target = x_.target;
+    }
+
+    uint64_t advance(uint64_t n, ChainImage& image, const std::function<bool()>& timeUp) override {
+        uint64_t i = 0;
+        std::vector<ImageContribution> none;
+        for (; i < n; ++i) {
+            if (i % 16 == 15 && timeUp()) break;
+            const auto t0 = std::chrono::steady_clock::now();
+            // Selection in proportion to weight x suitability at the current state.
+            const double totalX = selectionMass(x_);
+            double u = rng_.nextDouble() * totalX;
+            size_t m = 0;
+            for (; m + 1 < mutations_.size(); ++m) {
+                const double w = mutations_[m].mutation->suitable(x_) ? mutations_[m].weight : 0.0;
+                if (u < w) break;
+                u -= w;
+            }
+            StrategyCounters& k = stats_[m];
+            ++k.proposed;
+            mutations_[m].mutation->propose(x_, rng_, proposal_);
+            double a = 0;
+            if (proposal_.failed) {
+                ++k.rejected[size_t(*proposal_.failed)];
+                position_.step(none, 0, 0, false, image);
+            } else {
+                // Q times the selection probability at each state (ALGORITHMS.md 1.4, pitfall P-3).
+                const double w = mutations_[m].weight;
+                const double totalY = selectionMass(proposal_.y);
+                const double forward = proposal_.forwardQ * w / totalX;
+                const double reverse =
+                    mutations_[m].mutation->suitable(proposal_.y) && totalY > 0 ? proposal_.reverseQ * w / totalY : 0.0;
+                a = acceptance(forward, reverse);
+                const bool move = rng_.nextDouble() < a;
+                auto c = proposal_.y.contribution();
+                position_.step(c, proposal_.y.target, a, move, image);
+                if (move) {
+                    std::swap(x_, proposal_.y);
+                    ++k.accepted;
+                }
+            }
+            k.acceptance += a;
+            k.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        }
+        position_.flush(image);
+        return i;
+    }
+
+    void collect(MutationStatistics& strategies, SampleHealth& health) const override {
+        strategies.merge(stats_);
+        for (size_t m = 0; m < mutations_.size(); ++m)
+            health.nonFinite += stats_[m].rejected[size_t(RejectCause::NonFinite)];
+    }
+
+    static std::vector<std::string> names(const std::vector<WeightedMutation>& mutations) {
+        std::vector<std::string> out;
+        for (const auto& m : mutations)
+            out.push_back(m.mutation->name());
+        return out;
+    }
+
+private:
+    double selectionMass(const MarkovPath& p) const {
+        double sum = 0;
+        for (const auto& m : mutations_)
+            if (m.mutation->suitable(p)) sum += m.weight;
+        return sum;
+    }
+
+    const std::vector<WeightedMutation>& mutations_;
+    MarkovPath x_;
+    Pcg32 rng_;
+    Proposal proposal_;
+    ChainPosition position_;
+    MutationStatistics stats_;
+};
+
+} // namespace
+
+PathSpaceSeeds seedWithBdpt(const Scene& scene, const BdptSettings& bdpt, uint64_t samples, size_t keep, uint64_t seed,
+                            int threads, const std::atomic<bool>* stop) {
+    SampleFilm film(scene.camera);
+    const uint64_t pixels = uint64_t(film.width()) * uint64_t(film.height());
+    RenderSettings rs;
+    rs.bdpt = bdpt;
+    rs.spp = int(std::max<uint64_t>(1, (samples + pixels - 1) / pixels));
+    rs.threads = threads;
+    rs.seed = seed;
+    SeedReservoir reservoir(keep, seed ^ 0x9e3779b97f4a7c15ULL);
+    const auto st = render(scene, rs, film, {}, stop, &reservoir);
+    return {reservoir.draws(), reservoir.normalization(st.samples, double(pixels))};
+}
+
+ChainRunStats runPathSpaceChains(const Scene& scene, const PathSpaceSeeds& seeds,
+                                 const std::vector<WeightedMutation>& mutations, const ChainRunSettings& run,
+                                 SampleFilm& film, const ChainProgressCallback& progress, const std::atomic<bool>* stop,
+                                 const ChainSnapshotCallback& snapshot) {
+    if (run.chains < 1) throw Error("the number of chains must be at least 1");
+    if (run.mutations == 0 && !(run.timeLimit > 0)) throw Error("give a number of mutations or a time limit");
+    if (mutations.empty()) throw Error("no mutation to run");
+    if (seeds.paths.empty() || !(seeds.b > 0)) throw Error("no seed paths with light to start the chains from");
+    ChainRunner runner(run, film, progress, stop, snapshot);
+    ChainRunStats stats;
+    stats.strategies = MutationStatistics(PathSpaceChain::names(mutations));
+    stats.b = seeds.b;
+    stats.startupSamples = seeds.paths.size();
+
+    // Each chain starts from a seed draw picked uniformly (the draws are already in proportion to
+    // weight). A draw that does not re-create in this scene is replaced by another and counted.
+    std::vector<std::unique_ptr<MarkovChain>> chains;
+    uint64_t unusable = 0;
+    for (int c = 0; c < run.chains; ++c) {
+        Pcg32 rng = chainStream(run.seed, uint64_t(c));
+        for (int attempt = 0;; ++attempt) {
+            const size_t i = std::min(size_t(rng.nextDouble() * double(seeds.paths.size())), seeds.paths.size() - 1);
+            try {
+                chains.push_back(
+                    std::make_unique<PathSpaceChain>(mutations, pathFromRecord(scene, seeds.paths[i], i), rng));
+                break;
+            } catch (const Error& e) {
+                ++unusable;
+                if (attempt >= 1000)
+                    throw Error(std::string("no usable seed path after 1000 attempts; the last: ") + e.what());
+            }
+        }
+    }
+    stats.unusableSeeds = unusable;
+    stats.startupSeconds = runner.elapsed();
+    runner.assignQuotas(chains);
+    runner.run(chains, stats.b / (double(film.width()) * double(film.height())), stats);
+    return stats;
+}
+
+} // namespace lt

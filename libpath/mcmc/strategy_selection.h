@@ -1,0 +1,33 @@
+// Which path-space mutations a run uses: `--strategies auto` reads the scene (scene/scene_features.h)
+// and leaves out what cannot help, saying why (the third promise); an explicit list NAME[:WEIGHT],...
+// is taken as given. Every mix includes the bidirectional mutation (ergodicity, ALGORITHMS.md 1.4).
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "mcmc/mutation.h"
+#include "mcmc/path_space_chains.h"
+#include "scene/scene_features.h"
+
+namespace lt {
+
+struct StrategyChoice {
+    struct Entry {
+        std::string name;
+        double weight = 1;
+    };
+    std::vector<Entry> chosen;
+    std::vector<std::string> leftOut; // "NAME: why", for the user
+};
+
+// Throws lt::Error for an unknown name, a weight that is not a positive number, a strategy that is not
+// built yet, or a list without the bidirectional mutation.
+[[nodiscard]] StrategyChoice chooseStrategies(const std::string& spec, const SceneFeatures& features);
+
+// The mutations of a choice, for a scene and a path-length bound; `mix` points into `owned`.
+void makeMutations(const StrategyChoice& choice, const Scene& scene, int maxEdges,
+                   std::vector<std::unique_ptr<Mutation>>& owned, std::vector<WeightedMutation>& mix);
+
+} // namespace lt

@@ -4,12 +4,12 @@
 # CSV against a reference, and a figure of the images side by side (full frame and an optional crop).
 #   pipelines/compare.sh SCENE --time SECONDS --methods "pt bdpt" [--ref REF.exr] [--crop X,Y,W,H]
 #                        [--out DIR] [-- options for every tool, e.g. --resolution 320x240 --threads 2]
-# Methods: pt, bdpt (lt-seed); pssmlt, mmlt (lt-mutate --space primary | multiplexed). Methods of tools
-# that do not exist yet are refused by name.
+# Methods: pt, bdpt (lt-seed); mlt, pssmlt, mmlt (lt-mutate --space path | primary | multiplexed; mlt
+# seeds itself with BDPT inside its time). Methods of tools that do not exist yet are refused by name.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 bin="${BUILD_DIR:-$root/build}/bin"
-usage() { echo "usage: $0 SCENE --time SECONDS --methods \"pt bdpt pssmlt mmlt\" [--ref REF.exr] [--crop X,Y,W,H] [--out DIR] [-- tool options]" >&2; exit 2; }
+usage() { echo "usage: $0 SCENE --time SECONDS --methods \"pt bdpt mlt pssmlt mmlt\" [--ref REF.exr] [--crop X,Y,W,H] [--out DIR] [-- tool options]" >&2; exit 2; }
 [ $# -ge 1 ] || usage
 scene="$1"; shift
 time=""; methods=""; ref=""; crop=""; out=""; extra=()
@@ -34,18 +34,18 @@ render() {
   local method="$1" file="$2"
   case "$method" in
     pt|bdpt) "$bin/lt-seed" "$scene" --method "$method" --time "$time" --snapshots doubling -o "$file" -q "${extra[@]}" ;;
-    pssmlt|mmlt)
-      local space=primary; [ "$method" = mmlt ] && space=multiplexed
+    mlt|pssmlt|mmlt)
+      local space=path; [ "$method" = pssmlt ] && space=primary; [ "$method" = mmlt ] && space=multiplexed
       "$bin/lt-mutate" "$scene" --space "$space" --time "$time" --snapshots doubling -o "$file" -q "${extra[@]}" ;;
-    mlt|memlt|hslt|portal|gpt|gdpr)
-      echo "$0: method '$method' needs a part that does not exist yet (lt-mutate --space path / lt-gradient)" >&2; return 1 ;;
-    *) echo "$0: unknown method '$method' (known: pt bdpt pssmlt mmlt)" >&2; return 1 ;;
+    memlt|hslt|portal|gpt|gdpr)
+      echo "$0: method '$method' needs a part that does not exist yet (manifold/half-vector/portal mutations, lt-gradient)" >&2; return 1 ;;
+    *) echo "$0: unknown method '$method' (known: pt bdpt mlt pssmlt mmlt)" >&2; return 1 ;;
   esac
 }
 
 # Refuse unknown or not-yet-available methods before spending any time rendering.
 for m in $methods; do
-  case "$m" in pt|bdpt|pssmlt|mmlt) ;; *) render "$m" /dev/null || exit 1 ;; esac
+  case "$m" in pt|bdpt|mlt|pssmlt|mmlt) ;; *) render "$m" /dev/null || exit 1 ;; esac
 done
 
 files=()

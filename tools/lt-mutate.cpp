@@ -1,6 +1,7 @@
 // lt-mutate: Markov-chain Monte Carlo rendering (ALGORITHMS.md 1.4, 2, 8): path-space MLT started from
 // seed paths, Kelemen's primary-sample-space MLT and multiplexed MLT over lt's BDPT, with per-strategy
 // statistics, snapshots and Ctrl-C.
+#include <chrono>
 #include <cmath>
 #include <iomanip>
 #include <iostream>
@@ -46,8 +47,9 @@ int main(int argc, char** argv) {
                    "(Hachisuka MMLT)")
         ->check(CLI::IsMember({"primary", "multiplexed", "path"}));
     app.add_option("--strategies", strategies,
-                   "path-space mutations (auto); primary spaces have their own two: "
-                   "large step and small step");
+                   "path-space mutations: auto (bidirectional, lens, and caustic and multi-chain where the "
+                   "scene has specular chains) or NAME[:WEIGHT],... of bidirectional (required), lens, caustic, "
+                   "multi-chain; weights default to 1; primary spaces have their own two: large step and small step");
     app.add_option("--mutations", mutations, "total mutations over all chains")->check(CLI::PositiveNumber);
     app.add_option("--mutations-per-pixel", mutationsPerPixel, "total mutations as a multiple of the pixel count")
         ->check(CLI::PositiveNumber);
@@ -77,14 +79,19 @@ int main(int argc, char** argv) {
                    "write progress snapshots for lt-error: 'doubling', 'doubling:START' or seconds '5,10,30'");
     app.add_option("--snapshot-mutations", snapshotMutations,
                    "write snapshots at these mutations per pixel, e.g. '1,4,16'");
-    app.add_option("--dump-paths", dumpPaths, "path space: write every K-th state (.ltp)");
-    app.add_option("--dump-every", dumpEvery, "with --dump-paths: K");
+    app.add_option("--dump-paths", dumpPaths,
+                   "path space: write every K-th state of every chain to a paths file (.ltp, or - for stdout) for "
+                   "trace plots and lt-inspect; rngStream = chain, rngOffset = mutation");
+    app.add_option("--dump-every", dumpEvery, "with --dump-paths: K (mutations of a chain between dumped states)")
+        ->check(CLI::PositiveNumber);
     app.add_option("-D,--define", defines, "scene parameter NAME=VALUE, overriding the scene's <default>")
         ->type_name("NAME=VALUE");
     app.add_flag("-q,--quiet", quiet, "no progress output");
 
     return lt::tool::run(app, argc, argv, [&] {
-        if (!dumpPaths.empty() || dumpEvery) throw lt::Error("--dump-paths is not built yet");
+        if (!dumpPaths.empty() && space != "path") throw lt::Error("--dump-paths needs --space path");
+        if (dumpPaths.empty() != (dumpEvery == 0)) throw lt::Error("--dump-paths and --dump-every go together");
+        if (dumpPaths == "-" && out == "-") throw lt::Error("only one of -o and --dump-paths can be stdout");
         if (space != "path" && app.count("--strategies") && strategies != "auto")
             throw lt::Error("--strategies selects path-space mutations; --space " + space +
                             " has its own (large and small steps, --large-step)");
@@ -164,6 +171,9 @@ int main(int argc, char** argv) {
         const int maxEdges = ps.bdpt.maxDepth > 0 ? ps.bdpt.maxDepth : unbounded;
         lt::StrategyChoice choice;
         if (pathSpace) {
+            params.erase("large_step");
+            params.erase("small_step");
+            if (!seeds.paths.empty()) params.erase("startup_samples");
             choice = lt::chooseStrategies(strategies, lt::analyzeScene(*scene));
             nlohmann::json list = nlohmann::json::array();
             for (const auto& e : choice.chosen)
@@ -206,6 +216,7 @@ int main(int argc, char** argv) {
             writer.writeSnapshot(snap);
         };
         lt::ChainRunStats stats;
+        rs.start = std::chrono::steady_clock::now(); // seeding counts toward the run's time
         if (pathSpace) {
             if (seeds.paths.empty()) {
                 // No seed file: a BDPT start-up of our own, as lt-seed --paths would make it.
@@ -219,8 +230,19 @@ int main(int argc, char** argv) {
             std::vector<std::unique_ptr<lt::Mutation>> owned;
             std::vector<lt::WeightedMutation> mix;
             lt::makeMutations(choice, *scene, maxEdges, owned, mix);
+            std::optional<lt::file::Writer> dumpWriter;
+            lt::PathDump dump;
+            if (!dumpPaths.empty()) {
+                nlohmann::json dparams = params;
+                dparams["dump_every"] = dumpEvery;
+                dumpWriter.emplace(dumpPaths, lt::file::FileKind::Paths,
+                                   lt::tool::makeInfo("lt-mutate", argc, argv, dparams, scene.get()));
+                dump.every = dumpEvery;
+                dump.write = [&](std::vector<lt::file::PathRecord>& records) { dumpWriter->writePaths(records); };
+            }
             stats = lt::runPathSpaceChains(*scene, seeds, mix, rs, film, onProgress, &lt::tool::stopRequested(),
-                                           onSnapshot);
+                                           onSnapshot, dump);
+            if (dumpWriter) dumpWriter->finish();
         } else {
             stats = lt::runPrimarySpaceChains(*scene, ps, rs, film, onProgress, &lt::tool::stopRequested(), onSnapshot);
         }

@@ -18,7 +18,8 @@ double cpuSeconds() { return double(std::clock()) / CLOCKS_PER_SEC; }
 ChainRunner::ChainRunner(const ChainRunSettings& run, SampleFilm& film, const ChainProgressCallback& progress,
                          const std::atomic<bool>* stop, const ChainSnapshotCallback& snapshot)
     : run_(run), film_(film), progress_(progress), stop_(stop), snapshot_(snapshot),
-      start_(std::chrono::steady_clock::now()), cpuStart_(cpuSeconds()), raysBefore_(EmbreeAccel::rayCount()) {}
+      start_(run.start.value_or(std::chrono::steady_clock::now())), cpuStart_(cpuSeconds()),
+      raysBefore_(EmbreeAccel::rayCount()) {}
 
 double ChainRunner::elapsed() const {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count() - snapshotSeconds_;
@@ -43,7 +44,8 @@ void ChainRunner::assignQuotas(std::vector<std::unique_ptr<MarkovChain>>& chains
         chains[c]->quota = run_.mutations > 0 ? run_.mutations / n + (c < run_.mutations % n) : ~uint64_t(0);
 }
 
-void ChainRunner::run(std::vector<std::unique_ptr<MarkovChain>>& chains, double scale, ChainRunStats& stats) {
+void ChainRunner::run(std::vector<std::unique_ptr<MarkovChain>>& chains, double scale, ChainRunStats& stats,
+                      const std::function<void(MarkovChain&)>& afterRound) {
     const int threads = run_.threads > 0 ? run_.threads : tbb::this_task_arena::max_concurrency();
     tbb::task_arena arena(threads);
     const double pixels = double(film_.width()) * double(film_.height());
@@ -76,6 +78,7 @@ void ChainRunner::run(std::vector<std::unique_ptr<MarkovChain>>& chains, double 
             r.lightPaths = done[c];
             film_.merge(r);
             mutations_ += done[c];
+            if (afterRound) afterRound(*chains[c]);
         }
         const double wall = elapsed();
         double fraction = run_.mutations > 0 ? double(mutations_) / double(run_.mutations) : -1;

@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "image/film.h"
@@ -31,6 +32,9 @@ struct ChainRunSettings {
     uint64_t seed = 0;
     int mutationsPerRound = 64; // per chain between merges (granularity of snapshots)
     SnapshotSchedule snapshots; // checked at the end of every round (sample counts: mutations per pixel)
+    // When the run began, for its clock and time limit: set it before work done ahead of the chains
+    // (lt-mutate's own BDPT seeding) so that it counts; empty: when the chains' runner starts.
+    std::optional<std::chrono::steady_clock::time_point> start;
 };
 
 struct ChainRunProgress {
@@ -91,7 +95,9 @@ public:
     // Rounds until every quota is done, the time is up or Ctrl-C: chains advance in parallel, their splats
     // merge in chain order with scale = b / pixels (ChainImage). Fills the times, counts and statistics of
     // `stats` (which must carry the strategy names).
-    void run(std::vector<std::unique_ptr<MarkovChain>>& chains, double scale, ChainRunStats& stats);
+    // `afterRound`, when given, sees every chain after each round's merge, in chain order.
+    void run(std::vector<std::unique_ptr<MarkovChain>>& chains, double scale, ChainRunStats& stats,
+             const std::function<void(MarkovChain&)>& afterRound = {});
     // Close `stats` for a run that ends without chains (interrupted during start-up).
     void finish(ChainRunStats& stats) const;
 

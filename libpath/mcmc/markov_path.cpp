@@ -2,6 +2,7 @@
 
 #include "bsdf/shading_correction.h"
 #include "math/error.h"
+#include "path/path_record.h"
 
 namespace lt {
 
@@ -96,15 +97,33 @@ MarkovPath pathFromRecord(const Scene& scene, const file::PathRecord& record, si
             x.bsdf = scene.bsdfOf(x.si);
             x.emitterIndex = scene.shapes[size_t(r.shape)].emitter;
             if (x.emitterIndex >= 0) x.emitter = scene.emitters[size_t(x.emitterIndex)].get();
-            // Delta scattering, except at the connection's two ends (BDPT joins them through the
-            // non-delta lobes): light-to-eye indices s - 1 and s.
-            x.delta = (r.lobe & LobeDelta) && i + 1 != record.s && i != record.s;
+            // Delta scattering, except at the connection's two ends of a BDPT technique (joined through
+            // the non-delta lobes): light-to-eye indices s - 1 and s. A chain's state (s = t = 0) says
+            // exactly.
+            const bool technique = record.s + record.t > 0;
+            x.delta = (r.lobe & LobeDelta) && (!technique || (i + 1 != record.s && i != record.s));
             x.lobe = r.lobe;
         }
     }
     if (const auto why = evaluatePath(scene, path))
         throw fail(std::string("carries no light in this scene (") + rejectCauseName(*why) + ")");
     return path;
+}
+
+file::PathRecord toPathRecord(const Scene& scene, const MarkovPath& path, uint64_t chain, uint64_t mutation) {
+    file::PathRecord rec;
+    for (const auto& v : path.v) {
+        file::VertexRecord r = toVertexRecord(scene, v);
+        r.lobe = isSpecular(v) ? uint8_t(r.lobe | LobeDelta) : uint8_t(r.lobe & ~LobeDelta);
+        rec.vertices.push_back(r);
+    }
+    rec.raster = {float(path.raster.x), float(path.raster.y)};
+    rec.contribution = {float(path.f.r), float(path.f.g), float(path.f.b)};
+    rec.misWeight = 1;
+    rec.weight = path.target;
+    rec.rngStream = chain;
+    rec.rngOffset = mutation;
+    return rec;
 }
 
 double densityFromLight(const Scene& scene, const std::vector<PathVertex>& v, size_t i) {

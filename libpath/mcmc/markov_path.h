@@ -47,6 +47,12 @@ struct MarkovPath {
 // light side). Returns the cause when the path carries nothing: occluded, off the sensor, or zero.
 [[nodiscard]] std::optional<RejectCause> evaluatePath(const Scene& scene, MarkovPath& path);
 
+// A chain's state as a path record (lt-mutate --dump-paths): s = t = 0 (no BDPT technique), the lobe
+// bits saying exactly which vertices are specular, contribution f, weight f*, and (chain, mutation) as
+// (rngStream, rngOffset). pathFromRecord reads it back.
+[[nodiscard]] file::PathRecord toPathRecord(const Scene& scene, const MarkovPath& path, uint64_t chain,
+                                            uint64_t mutation);
+
 // The path of a stored seed record (lt-seed --paths), re-created in `scene` from shape, primitive and
 // barycentrics, then evaluated. Throws lt::Error naming the record when it does not fit the scene.
 [[nodiscard]] MarkovPath pathFromRecord(const Scene& scene, const file::PathRecord& record, size_t index);

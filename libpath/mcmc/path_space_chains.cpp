@@ -13,8 +13,10 @@ Pcg32 chainStream(uint64_t seed, uint64_t chain) { return Pcg32(mixBits(mixBits(
 
 class PathSpaceChain final : public MarkovChain {
 public:
-    PathSpaceChain(const std::vector<WeightedMutation>& mutations, MarkovPath start, Pcg32 rng)
-        : mutations_(mutations), x_(std::move(start)), rng_(rng), stats_(names(mutations)) {
+    PathSpaceChain(const Scene& scene, const std::vector<WeightedMutation>& mutations, MarkovPath start, Pcg32 rng,
+                   uint64_t index, uint64_t dumpEvery)
+        : scene_(scene), mutations_(mutations), x_(std::move(start)), rng_(rng), stats_(names(mutations)),
+          index_(index), dumpEvery_(dumpEvery) {
         position_.contributions = x_.contribution();
         position_.target = x_.target;
     }
@@ -59,6 +61,8 @@ public:
             }
             k.acceptance += a;
             k.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+            const uint64_t count = done + i + 1;
+            if (dumpEvery_ && count % dumpEvery_ == 0) dumped_.push_back(toPathRecord(scene_, x_, index_, count));
         }
         position_.flush(image);
         return i;
@@ -69,6 +73,8 @@ public:
         for (size_t m = 0; m < mutations_.size(); ++m)
             health.nonFinite += stats_[m].rejected[size_t(RejectCause::NonFinite)];
     }
+
+    std::vector<file::PathRecord>& dumped() { return dumped_; }
 
     static std::vector<std::string> names(const std::vector<WeightedMutation>& mutations) {
         std::vector<std::string> out;
@@ -85,12 +91,15 @@ private:
         return sum;
     }
 
+    const Scene& scene_;
     const std::vector<WeightedMutation>& mutations_;
     MarkovPath x_;
     Pcg32 rng_;
     Proposal proposal_;
     ChainPosition position_;
     MutationStatistics stats_;
+    uint64_t index_, dumpEvery_;
+    std::vector<file::PathRecord> dumped_;
 };
 
 } // namespace
@@ -112,7 +121,7 @@ PathSpaceSeeds seedWithBdpt(const Scene& scene, const BdptSettings& bdpt, uint64
 ChainRunStats runPathSpaceChains(const Scene& scene, const PathSpaceSeeds& seeds,
                                  const std::vector<WeightedMutation>& mutations, const ChainRunSettings& run,
                                  SampleFilm& film, const ChainProgressCallback& progress, const std::atomic<bool>* stop,
-                                 const ChainSnapshotCallback& snapshot) {
+                                 const ChainSnapshotCallback& snapshot, const PathDump& dump) {
     if (run.chains < 1) throw Error("the number of chains must be at least 1");
     if (run.mutations == 0 && !(run.timeLimit > 0)) throw Error("give a number of mutations or a time limit");
     if (mutations.empty()) throw Error("no mutation to run");
@@ -132,8 +141,8 @@ ChainRunStats runPathSpaceChains(const Scene& scene, const PathSpaceSeeds& seeds
         for (int attempt = 0;; ++attempt) {
             const size_t i = std::min(size_t(rng.nextDouble() * double(seeds.paths.size())), seeds.paths.size() - 1);
             try {
-                chains.push_back(
-                    std::make_unique<PathSpaceChain>(mutations, pathFromRecord(scene, seeds.paths[i], i), rng));
+                chains.push_back(std::make_unique<PathSpaceChain>(
+                    scene, mutations, pathFromRecord(scene, seeds.paths[i], i), rng, uint64_t(c), dump.every));
                 break;
             } catch (const Error& e) {
                 ++unusable;
@@ -145,7 +154,14 @@ ChainRunStats runPathSpaceChains(const Scene& scene, const PathSpaceSeeds& seeds
     stats.unusableSeeds = unusable;
     stats.startupSeconds = runner.elapsed();
     runner.assignQuotas(chains);
-    runner.run(chains, stats.b / (double(film.width()) * double(film.height())), stats);
+    std::function<void(MarkovChain&)> afterRound;
+    if (dump.every && dump.write)
+        afterRound = [&](MarkovChain& c) {
+            auto& records = static_cast<PathSpaceChain&>(c).dumped();
+            if (!records.empty()) dump.write(records);
+            records.clear();
+        };
+    runner.run(chains, stats.b / (double(film.width()) * double(film.height())), stats, afterRound);
     return stats;
 }
 

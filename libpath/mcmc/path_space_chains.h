@@ -6,6 +6,7 @@
 // seed run's b, so the average over runs is unbiased (Veach-Guibas start-up bias removal).
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -31,11 +32,18 @@ struct PathSpaceSeeds {
 [[nodiscard]] PathSpaceSeeds seedWithBdpt(const Scene& scene, const BdptSettings& bdpt, uint64_t samples, size_t keep,
                                           uint64_t seed, int threads, const std::atomic<bool>* stop);
 
+// Every `every`-th state of each chain (counting its mutations), handed over in chain order after each
+// round: lt-mutate --dump-paths, for trace plots and lt-inspect.
+struct PathDump {
+    uint64_t every = 0; // 0: none
+    std::function<void(std::vector<file::PathRecord>&)> write;
+};
+
 // Renders into `film`. The mutations must outlive the call. Throws lt::Error when no seed path fits the
 // scene. `stats.strategies` gets one row per mutation.
 ChainRunStats runPathSpaceChains(const Scene& scene, const PathSpaceSeeds& seeds,
                                  const std::vector<WeightedMutation>& mutations, const ChainRunSettings& run,
                                  SampleFilm& film, const ChainProgressCallback& progress, const std::atomic<bool>* stop,
-                                 const ChainSnapshotCallback& snapshot = {});
+                                 const ChainSnapshotCallback& snapshot = {}, const PathDump& dump = {});
 
 } // namespace lt

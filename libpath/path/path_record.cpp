@@ -2,14 +2,18 @@
 
 namespace lt {
 
-namespace {
-
 file::VertexRecord toVertexRecord(const Scene& scene, const PathVertex& v) {
     file::VertexRecord r;
     switch (v.type) {
-    case VertexType::Camera: r.kind = file::VertexKind::Camera; break;
-    case VertexType::Light: r.kind = file::VertexKind::Light; break;
-    case VertexType::Surface: r.kind = file::VertexKind::Surface; break;
+    case VertexType::Camera:
+        r.kind = file::VertexKind::Camera;
+        break;
+    case VertexType::Light:
+        r.kind = file::VertexKind::Light;
+        break;
+    case VertexType::Surface:
+        r.kind = file::VertexKind::Surface;
+        break;
     }
     r.lobe = v.lobe;
     // Degenerate position: the pinhole and point-like lights; degenerate direction: directional light.
@@ -31,8 +35,6 @@ file::VertexRecord toVertexRecord(const Scene& scene, const PathVertex& v) {
     r.pdfRev = v.pdfRev;
     return r;
 }
-
-} // namespace
 
 file::PathRecord toPathRecord(const Scene& scene, const StrategyPath& path, uint64_t stream, uint64_t offset) {
     file::PathRecord rec;

@@ -12,5 +12,7 @@ namespace lt {
 // `offset` name the random numbers it came from (lt-seed: pixel index and pass) for replay.
 [[nodiscard]] file::PathRecord toPathRecord(const Scene& scene, const StrategyPath& path, uint64_t stream,
                                             uint64_t offset);
+// One vertex as stored.
+[[nodiscard]] file::VertexRecord toVertexRecord(const Scene& scene, const PathVertex& v);
 
 } // namespace lt

@@ -135,27 +135,38 @@ private:
 
 using Solution = std::array<std::vector<double>, 3>;
 
+// The squared RGB norms of pixel p's three residuals at `x`: primal (alpha (x - P)), and the forward
+// differences against dx and dy (zero where the difference would leave the image).
+struct PixelResiduals {
+    double primal = 0, dx = 0, dy = 0;
+};
+PixelResiduals pixelResiduals(const GradientImage& im, const Solution& x, double alpha, uint32_t px, uint32_t y) {
+    const uint32_t W = im.width, H = im.height;
+    const size_t p = size_t(y) * W + px;
+    PixelResiduals e;
+    for (size_t c = 0; c < 3; ++c) {
+        const double rp = alpha * (x[c][p] - im.primal[c][p]);
+        e.primal += rp * rp;
+        if (px + 1 < W) {
+            const double r = x[c][p + 1] - x[c][p] - im.dx[c][p];
+            e.dx += r * r;
+        }
+        if (y + 1 < H) {
+            const double r = x[c][p + W] - x[c][p] - im.dy[c][p];
+            e.dy += r * r;
+        }
+    }
+    return e;
+}
+
 // The objective of ALGORITHMS.md 7 for the chosen norm at `x` (per-pixel RGB norms for L1).
 double objective(const GradientImage& im, const Solution& x, double alpha, ReconstructNorm norm) {
-    const uint32_t W = im.width, H = im.height;
     double total = 0;
-    for (uint32_t y = 0; y < H; ++y)
-        for (uint32_t px = 0; px < W; ++px) {
-            const size_t p = size_t(y) * W + px;
-            double ep = 0, ex = 0, ey = 0; // squared RGB norms of the three residuals
-            for (size_t c = 0; c < 3; ++c) {
-                const double rp = alpha * (x[c][p] - im.primal[c][p]);
-                ep += rp * rp;
-                if (px + 1 < W) {
-                    const double r = x[c][p + 1] - x[c][p] - im.dx[c][p];
-                    ex += r * r;
-                }
-                if (y + 1 < H) {
-                    const double r = x[c][p + W] - x[c][p] - im.dy[c][p];
-                    ey += r * r;
-                }
-            }
-            total += norm == ReconstructNorm::L2 ? ep + ex + ey : std::sqrt(ep) + std::sqrt(ex) + std::sqrt(ey);
+    for (uint32_t y = 0; y < im.height; ++y)
+        for (uint32_t px = 0; px < im.width; ++px) {
+            const PixelResiduals e = pixelResiduals(im, x, alpha, px, y);
+            total += norm == ReconstructNorm::L2 ? e.primal + e.dx + e.dy
+                                                 : std::sqrt(e.primal) + std::sqrt(e.dx) + std::sqrt(e.dy);
         }
     return total;
 }
@@ -164,30 +175,16 @@ double objective(const GradientImage& im, const Solution& x, double alpha, Recon
 // residual, from the RGB vector norm |e|_2, so the three channels share one weight and stay one
 // problem each. Minimizing sum w |e|^2 with these weights is the majorizer of sum |e| at x.
 void irlsWeights(const GradientImage& im, const Solution& x, double alpha, double reg, ResidualWeights& weights) {
-    const uint32_t W = im.width, H = im.height;
-    auto &sp = weights.primal, &sx = weights.dx, &sy = weights.dy;
-    sp.resize(im.pixels());
-    sx.resize(im.pixels());
-    sy.resize(im.pixels());
-    for (uint32_t y = 0; y < H; ++y)
-        for (uint32_t px = 0; px < W; ++px) {
-            const size_t p = size_t(y) * W + px;
-            double ep = 0, ex = 0, ey = 0;
-            for (size_t c = 0; c < 3; ++c) {
-                const double rp = alpha * (x[c][p] - im.primal[c][p]);
-                ep += rp * rp;
-                if (px + 1 < W) {
-                    const double r = x[c][p + 1] - x[c][p] - im.dx[c][p];
-                    ex += r * r;
-                }
-                if (y + 1 < H) {
-                    const double r = x[c][p + W] - x[c][p] - im.dy[c][p];
-                    ey += r * r;
-                }
-            }
-            sp[p] = float(1 / std::sqrt(std::sqrt(ep) + reg));
-            sx[p] = float(1 / std::sqrt(std::sqrt(ex) + reg));
-            sy[p] = float(1 / std::sqrt(std::sqrt(ey) + reg));
+    weights.primal.resize(im.pixels());
+    weights.dx.resize(im.pixels());
+    weights.dy.resize(im.pixels());
+    for (uint32_t y = 0; y < im.height; ++y)
+        for (uint32_t px = 0; px < im.width; ++px) {
+            const size_t p = size_t(y) * im.width + px;
+            const PixelResiduals e = pixelResiduals(im, x, alpha, px, y);
+            weights.primal[p] = float(1 / std::sqrt(std::sqrt(e.primal) + reg));
+            weights.dx[p] = float(1 / std::sqrt(std::sqrt(e.dx) + reg));
+            weights.dy[p] = float(1 / std::sqrt(std::sqrt(e.dy) + reg));
         }
 }
 

@@ -91,12 +91,9 @@ MarkovPath pathFromRecord(const Scene& scene, const file::PathRecord& record, si
             x.si.p = scene.camera.position();
         } else {
             if (r.shape < 0 || size_t(r.shape) >= scene.shapes.size()) throw fail("names a shape the scene lacks");
-            x.type = VertexType::Surface;
-            x.si = scene.shapes[size_t(r.shape)].surfaceAt(r.prim, Vec2(r.coords[0], r.coords[1]));
-            x.si.shape = r.shape;
-            x.bsdf = scene.bsdfOf(x.si);
-            x.emitterIndex = scene.shapes[size_t(r.shape)].emitter;
-            if (x.emitterIndex >= 0) x.emitter = scene.emitters[size_t(x.emitterIndex)].get();
+            SurfaceInteraction si = scene.shapes[size_t(r.shape)].surfaceAt(r.prim, Vec2(r.coords[0], r.coords[1]));
+            si.shape = r.shape;
+            x = surfaceVertex(scene, si);
             // Delta scattering, except at the connection's two ends of a BDPT technique (joined through
             // the non-delta lobes): light-to-eye indices s - 1 and s. A chain's state (s = t = 0) says
             // exactly.

@@ -24,6 +24,21 @@ struct Proposal {
     double sampledDensity = 0, recomputedDensity = 0;
 };
 
+// The end of every proposal: y re-evaluated from its vertices (false, with the cause in `failed`, when it
+// carries nothing), then the two transition densities T(x -> y) and T(y -> x) (in the measure of what
+// changed) turned into Q; `sampled` is what the proposal multiplied while sampling.
+[[nodiscard]] inline bool evaluateProposal(const Scene& scene, Proposal& out) {
+    out.failed = evaluatePath(scene, out.y);
+    return !out.failed;
+}
+inline void setTransitionDensities(Proposal& out, const MarkovPath& x, double sampled, double forwardT,
+                                   double reverseT) {
+    out.sampledDensity = sampled;
+    out.recomputedDensity = forwardT;
+    out.forwardQ = forwardT / out.y.target;
+    out.reverseQ = reverseT / x.target;
+}
+
 class Mutation {
 public:
     virtual ~Mutation() = default;

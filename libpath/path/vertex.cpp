@@ -8,16 +8,19 @@ namespace lt {
 
 bool PathVertex::isConnectible() const {
     switch (type) {
-    case VertexType::Camera: return true;
-    case VertexType::Light: return emitter == nullptr || !(emitter->flags() & EmitterDeltaDirection);
-    case VertexType::Surface: return bsdf && (bsdf->hasDiffuse() || bsdf->hasGlossy());
+    case VertexType::Camera:
+        return true;
+    case VertexType::Light:
+        return emitter == nullptr || !(emitter->flags() & EmitterDeltaDirection);
+    case VertexType::Surface:
+        return bsdf && (bsdf->hasDiffuse() || bsdf->hasGlossy());
     }
     return false;
 }
 
 Vec3 PathVertex::directionTo(const PathVertex& next) const {
-    if (infinite) return si.ng;             // an environment vertex sends light along its travel direction
-    if (next.infinite) return -next.si.ng;  // toward the sky, against the light's travel
+    if (infinite) return si.ng;            // an environment vertex sends light along its travel direction
+    if (next.infinite) return -next.si.ng; // toward the sky, against the light's travel
     return normalize(next.si.p - si.p);
 }
 
@@ -75,7 +78,8 @@ double PathVertex::pdfLightOrigin(const Scene& scene, const PathVertex& next) co
 Spectrum PathVertex::Le(const Scene& scene, const PathVertex& toward) const {
     if (infinite) {
         Spectrum sum;
-        for (int e : scene.environmentEmitters) sum += scene.emitters[size_t(e)]->evalEnvironment(-si.ng);
+        for (int e : scene.environmentEmitters)
+            sum += scene.emitters[size_t(e)]->evalEnvironment(-si.ng);
         return sum;
     }
     if (!emitter) return {};
@@ -106,6 +110,16 @@ bool visible(const Scene& scene, const PathVertex& a, const PathVertex& b) {
     const RayEndpoint ea = a.isOnSurface() ? a.si.endpoint() : RayEndpoint{a.si.p, {}, 0};
     if (b.infinite) return escapes(scene, ea, a.directionTo(b));
     return unoccluded(scene, ea, b.isOnSurface() ? b.si.endpoint() : RayEndpoint{b.si.p, {}, 0});
+}
+
+PathVertex surfaceVertex(const Scene& scene, const SurfaceInteraction& si) {
+    PathVertex v;
+    v.type = VertexType::Surface;
+    v.si = si;
+    v.bsdf = scene.bsdfOf(si);
+    v.emitterIndex = scene.shapes[size_t(si.shape)].emitter;
+    if (v.emitterIndex >= 0) v.emitter = scene.emitters[size_t(v.emitterIndex)].get();
+    return v;
 }
 
 PathVertex lightVertexAt(const Scene& scene, size_t index, const Vec3& p, const Vec3& nOrTravel, uint32_t prim,

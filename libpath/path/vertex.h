@@ -14,17 +14,17 @@ enum class VertexType : uint8_t { Camera, Light, Surface };
 
 struct PathVertex {
     VertexType type = VertexType::Surface;
-    Spectrum beta;                 // throughput of the subpath up to and including this vertex
-    SurfaceInteraction si;         // position, normals, frame (camera and point-like vertices: p only)
-    const Bsdf* bsdf = nullptr;    // surface vertices
-    const Emitter* emitter = nullptr;   // light vertices, and surface vertices that lie on an emitter
+    Spectrum beta;                    // throughput of the subpath up to and including this vertex
+    SurfaceInteraction si;            // position, normals, frame (camera and point-like vertices: p only)
+    const Bsdf* bsdf = nullptr;       // surface vertices
+    const Emitter* emitter = nullptr; // light vertices, and surface vertices that lie on an emitter
     int emitterIndex = -1;
-    Vec3 wi;                       // unit direction toward the previous vertex (zero at endpoints)
-    bool infinite = false;         // a light vertex of the environment: si.ng holds the direction of travel
-    bool delta = false;            // scattered by a delta lobe (then pdfFwd = pdfRev = 0)
-    Lobes lobe = LobeNone;         // the lobe sampled at this vertex
-    double pdfFwd = 0;             // density of this vertex when sampled from its predecessor
-    double pdfRev = 0;             // density of this vertex when sampled from its successor
+    Vec3 wi;               // unit direction toward the previous vertex (zero at endpoints)
+    bool infinite = false; // a light vertex of the environment: si.ng holds the direction of travel
+    bool delta = false;    // scattered by a delta lobe (then pdfFwd = pdfRev = 0)
+    Lobes lobe = LobeNone; // the lobe sampled at this vertex
+    double pdfFwd = 0;     // density of this vertex when sampled from its predecessor
+    double pdfRev = 0;     // density of this vertex when sampled from its successor
 
     [[nodiscard]] const Vec3& p() const { return si.p; }
     [[nodiscard]] const Vec3& ng() const { return si.ng; }
@@ -68,6 +68,10 @@ struct PathVertex {
 // leave the scene (toward an environment or directional emitter).
 [[nodiscard]] bool unoccluded(const Scene& scene, const RayEndpoint& a, const RayEndpoint& b);
 [[nodiscard]] bool escapes(const Scene& scene, const RayEndpoint& from, const Vec3& dir);
+
+// The vertex a ray hit: its surface, BSDF and, when the surface emits, its emitter. Path construction
+// (BDPT's random walks, the Markov chains' mutations) and re-created paths all build vertices here.
+[[nodiscard]] PathVertex surfaceVertex(const Scene& scene, const SurfaceInteraction& si);
 
 // A light vertex at a point emitter `index` produced: on an area emitter the full surface geometry at
 // (prim, coords); otherwise the point p with normal n (zero for point-like emitters), or, for an

@@ -62,7 +62,8 @@ private:
 } // namespace
 
 Bdpt::Bdpt(const Scene& scene, BdptSettings settings) : scene_(scene), settings_(settings) {
-    if (settings_.maxDepth == 0 || settings_.maxDepth < -1) throw Error("maxDepth must be -1 (unbounded) or at least 1");
+    if (settings_.maxDepth == 0 || settings_.maxDepth < -1)
+        throw Error("maxDepth must be -1 (unbounded) or at least 1");
     // A path of maxDepth edges has maxDepth + 1 vertices: the camera subpath may supply all but the light
     // vertex, the light subpath all but the camera vertex.
     maxCameraVertices_ = settings_.maxDepth < 0 ? UnboundedVertices : size_t(settings_.maxDepth) + 1;
@@ -83,20 +84,15 @@ void Bdpt::randomWalk(Ray ray, Spectrum beta, double pdfDir, SampleGenerator& sa
                 PathVertex v;
                 v.type = VertexType::Light;
                 v.infinite = true;
-                v.si.ng = -ray.d;   // the direction the light travels
+                v.si.ng = -ray.d; // the direction the light travels
                 v.si.p = ray.o + ray.d * (2 * scene_.sceneRadius() + length(ray.o - scene_.bounds.center()));
                 v.beta = beta;
-                v.pdfFwd = pdfFwd;  // solid angle: an environment vertex has no area
+                v.pdfFwd = pdfFwd; // solid angle: an environment vertex has no area
                 path.push_back(v);
             }
             return;
         }
-        PathVertex v;
-        v.type = VertexType::Surface;
-        v.si = *hit;
-        v.bsdf = scene_.bsdfOf(v.si);
-        v.emitterIndex = scene_.shapes[size_t(v.si.shape)].emitter;
-        if (v.emitterIndex >= 0) v.emitter = scene_.emitters[size_t(v.emitterIndex)].get();
+        PathVertex v = surfaceVertex(scene_, *hit);
         v.wi = -ray.d;
         v.beta = beta;
         v.pdfFwd = prev.convertDensity(pdfFwd, v);
@@ -247,7 +243,7 @@ Spectrum Bdpt::connect(std::vector<PathVertex>& light, std::vector<PathVertex>& 
 
 double Bdpt::misWeight(std::vector<PathVertex>& light, std::vector<PathVertex>& camera, const PathVertex& sampled,
                        int s, int t) const {
-    if (s + t == 2) return 1;   // the only strategy lt uses for paths of one edge (emitters seen directly)
+    if (s + t == 2) return 1; // the only strategy lt uses for paths of one edge (emitters seen directly)
     // The connection's endpoints take the place of a subpath's first vertex when it was sampled anew.
     SavedVertex savedLight0, savedCamera0;
     if (s == 1) {
@@ -326,8 +322,10 @@ Spectrum Bdpt::sample(const Vec2& raster, SampleGenerator& sampler, std::vector<
                 ++health.nonFinite;
                 continue;
             }
-            if (t == 1) splats.push_back({splatRaster, value});
-            else L += value;
+            if (t == 1)
+                splats.push_back({splatRaster, value});
+            else
+                L += value;
             if (onPath) {
                 StrategyPath sp;
                 sp.s = s;

@@ -5,6 +5,7 @@
 
 #include "bsdf/shading_correction.h"
 #include "math/frame.h"
+#include "mcmc/mutations/trace.h"
 
 namespace lt {
 
@@ -86,18 +87,6 @@ double BidirectionalMutation::newVertexDensity(const MarkovPath& path, int lo, i
     return sum / double(n + 1);
 }
 
-std::optional<PathVertex> BidirectionalMutation::trace(const Ray& ray) const {
-    const auto hit = scene_.intersect(ray);
-    if (!hit) return std::nullopt;
-    PathVertex v;
-    v.type = VertexType::Surface;
-    v.si = *hit;
-    v.bsdf = scene_.bsdfOf(v.si);
-    v.emitterIndex = scene_.shapes[size_t(v.si.shape)].emitter;
-    if (v.emitterIndex >= 0) v.emitter = scene_.emitters[size_t(v.emitterIndex)].get();
-    return v;
-}
-
 void BidirectionalMutation::propose(const MarkovPath& x, Pcg32& rng, Proposal& out) const {
     out = Proposal{};
     const int k = x.edges();
@@ -161,7 +150,7 @@ void BidirectionalMutation::propose(const MarkovPath& x, Pcg32& rng, Proposal& o
             const EmissionSample es = from.emitter->sampleEmission(uPos, uDir);
             dir = from.isOnSurface() ? Frame::fromNormal(from.si.ng).toWorld(Frame::fromNormal(es.n).toLocal(es.d))
                                      : es.d;
-            next = trace(from.isOnSurface() ? spawnRay(from.si.endpoint(), dir) : Ray{from.si.p, dir});
+            next = traceVertex(scene_, rayFrom(from, dir));
             if (!next) return fail(RejectCause::ZeroContribution);
             pdfArea = from.pdfLight(scene_, *next);
         } else {
@@ -174,7 +163,7 @@ void BidirectionalMutation::propose(const MarkovPath& x, Pcg32& rng, Proposal& o
             if (!bs || bs->weight.isBlack()) return fail(RejectCause::ZeroContribution);
             from.delta = (bs->lobe & LobeDelta) != 0;
             from.lobe = bs->lobe;
-            next = trace(spawnRay(from.si.endpoint(), bs->wo));
+            next = traceVertex(scene_, spawnRay(from.si.endpoint(), bs->wo));
             if (!next) return fail(RejectCause::ZeroContribution);
             pdfArea = from.delta ? bs->pdf * geometryTerm(from, *next) : from.convertDensity(bs->pdf, *next);
         }
@@ -188,7 +177,7 @@ void BidirectionalMutation::propose(const MarkovPath& x, Pcg32& rng, Proposal& o
         if (from.type == VertexType::Camera) {
             const Vec2 raster = sensor_.raster(Vec2(rng.nextDouble(), rng.nextDouble()));
             const Ray ray = scene_.camera.generateRay(raster);
-            next = trace(ray);
+            next = traceVertex(scene_, ray);
             if (!next) return fail(RejectCause::ZeroContribution);
             double pdfPos = 0, pdfDir = 0;
             scene_.camera.pdfEmission(ray.d, pdfPos, pdfDir);
@@ -203,7 +192,7 @@ void BidirectionalMutation::propose(const MarkovPath& x, Pcg32& rng, Proposal& o
             if (!bs || bs->weight.isBlack()) return fail(RejectCause::ZeroContribution);
             from.delta = (bs->lobe & LobeDelta) != 0;
             from.lobe = bs->lobe;
-            next = trace(spawnRay(from.si.endpoint(), bs->wo));
+            next = traceVertex(scene_, spawnRay(from.si.endpoint(), bs->wo));
             if (!next) return fail(RejectCause::ZeroContribution);
             if (from.delta) {
                 // The light-to-eye delta differs from the sampled one by R_imp / weight_rad (markov_path.h).
@@ -229,7 +218,7 @@ void BidirectionalMutation::propose(const MarkovPath& x, Pcg32& rng, Proposal& o
     }
     out.y.v = std::move(light);
     out.y.v.insert(out.y.v.end(), eye.rbegin(), eye.rend());
-    if (const auto why = evaluatePath(scene_, out.y)) return fail(*why);
+    if (!evaluateProposal(scene_, out)) return;
 
     // 4. Q in both directions, from the two paths alone.
     const int kNew = out.y.edges();

@@ -40,7 +40,6 @@ public:
 private:
     [[nodiscard]] double deletedProbability(int k, bool lightMovable, int kd) const;
     [[nodiscard]] double addedProbability(int k, int kd, int l, int ka) const;
-    [[nodiscard]] std::optional<PathVertex> trace(const Ray& ray) const;
 
     const Scene& scene_;
     int maxEdges_;

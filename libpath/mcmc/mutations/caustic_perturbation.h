@@ -1,0 +1,42 @@
+// Veach and Guibas' caustic perturbation (ALGORITHMS.md 2.3; Veach thesis 11.4.3) for paths ending
+// (D|L) S+ D E: turn the direction leaving x_l (the light end of the specular chain) by an angle theta
+// with density proportional to 1 / theta on [theta1, theta2], follow the chain keeping each vertex's
+// lobe kind to x_{k-1}', and connect it to the camera (the raster position follows).
+//
+// Ranges: theta_{1,2} = (radians per pixel) r_{1,2} d_E / d_L with the lens perturbation's raster radii,
+// d_E = |x_{k-1} x_k| and d_L the length of the chain from x_l to x_{k-1}: x_{k-1} then moves on the
+// image about as far as under the lens perturbation. They depend on the path, so the kernel is not
+// symmetric (pitfall P-2): T(y -> x) uses the ranges of y and is 0 when theta falls outside them.
+//
+// T in the measure of f: the solid-angle density of the new direction at x_l converted to the area of
+// x_{l+1}', times G for each vertex after a specular one (the stripped density with the lobe fixed).
+#pragma once
+
+#include "mcmc/mutation.h"
+#include "mcmc/mutations/specular_chain.h"
+
+namespace lt {
+
+class CausticPerturbation final : public Mutation {
+public:
+    explicit CausticPerturbation(const Scene& scene);
+
+    [[nodiscard]] std::string name() const override { return "caustic"; }
+    [[nodiscard]] bool suitable(const MarkovPath& x) const override;
+    void propose(const MarkovPath& x, Pcg32& rng, Proposal& out) const override;
+
+    // The angle range of a suitable path (pitfall P-2: evaluated at each state).
+    [[nodiscard]] ReciprocalKernel angles(const MarkovPath& path) const;
+    // The stripped area density of the chain's vertices x_{l+1} .. x_{k-1} given the direction's
+    // solid-angle density at x_l.
+    [[nodiscard]] double chainDensity(const MarkovPath& path, double pdfDir) const;
+    // x_l: the non-specular vertex or light at the light end of the chain before x_{k-1}.
+    [[nodiscard]] static int chainStart(const MarkovPath& path);
+
+private:
+    const Scene& scene_;
+    double radiansPerPixel_;
+    ReciprocalKernel radius_;
+};
+
+} // namespace lt

@@ -1,0 +1,18 @@
+// Tracing new path vertices for the path-space mutations: the one place that turns a ray hit into a
+// PathVertex (BSDF and emitter attached) and a vertex plus a direction into a ray.
+#pragma once
+
+#include <optional>
+
+#include "path/vertex.h"
+
+namespace lt {
+
+// The surface vertex where `ray` first hits the scene, or nothing when it escapes.
+[[nodiscard]] std::optional<PathVertex> traceVertex(const Scene& scene, const Ray& ray);
+
+// The ray leaving `from` along `dir`: offset from a surface, from the point itself for point-like
+// vertices (pinhole, point light).
+[[nodiscard]] Ray rayFrom(const PathVertex& from, const Vec3& dir);
+
+} // namespace lt

@@ -66,4 +66,10 @@ check "bidirectional,lens:2,caustic: the table lists all three" \
 check "auto without specular surfaces: caustic and multi-chain left out, with the reason" \
     'grep -q "left out: caustic, multi-chain perturbations: no delta" "$tmp/auto-err"'
 check "auto without specular surfaces: the lens perturbation runs" 'grep -q "^lens" "$tmp/auto-err"'
+"$bin/lt-mutate" "$scene" --mutations 4000 --chains 4 --startup-samples 1000 -o "$tmp/dump.lts" \
+    --dump-paths "$tmp/dump.ltp" --dump-every 100 -q; code=$?
+check "--dump-paths: exit 0, every 100th state of 4 chains" \
+    '[ $code -eq 0 ] && "$bin/lt-inspect" "$tmp/dump.ltp" | grep -q "paths *40,"'
+out=$("$bin/lt-mutate" "$scene" --space primary --time 1 --dump-paths "$tmp/x.ltp" --dump-every 10 -o "$tmp/x.lts" 2>&1); code=$?
+check "--dump-paths with a primary space: refused" '[ $code -ne 0 ] && echo "$out" | grep -q "needs --space path"'
 exit $fail

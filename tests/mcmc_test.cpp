@@ -601,7 +601,7 @@ TEST_CASE("each perturbation mixed with the bidirectional mutation converges to 
     }
 }
 
-TEST_CASE("--strategies: auto leaves out caustic and multi-chain without specular chains, names are checked",
+TEST_CASE("strategy selection: auto leaves out caustic and multi-chain without specular chains, names are checked",
           "[mcmc]") {
     SceneFeatures diffuse;
     diffuse.specularReason = "no delta BSDF";

@@ -247,6 +247,9 @@ int main(int argc, char** argv) {
             stats = lt::runPrimarySpaceChains(*scene, ps, rs, film, onProgress, &lt::tool::stopRequested(), onSnapshot);
         }
         progress.finish();
+        if (!quiet && timeLimit > 0 && stats.startupSeconds > timeLimit)
+            std::cerr << "lt-mutate: warning: the start-up took " << formatSeconds(stats.startupSeconds)
+                      << ", longer than --time; the chains ran one round (lower --startup-samples)\n";
 
         writer.writeBuffer(film.toBuffer());
         const lt::file::StatTable runTable{"run",

@@ -50,12 +50,15 @@ void ChainRunner::run(std::vector<std::unique_ptr<MarkovChain>>& chains, double 
     tbb::task_arena arena(threads);
     const double pixels = double(film_.width()) * double(film_.height());
     SnapshotSchedule schedule = run_.snapshots;
-    const auto timeUp = [&] { return (run_.timeLimit > 0 && elapsed() >= run_.timeLimit) || stopped(); };
+    // A time limit never ends a run before its first round: a start-up that outlasts --time still gives
+    // an image (the start-up time is in the statistics).
+    const auto overTime = [&] { return mutations_ > 0 && run_.timeLimit > 0 && elapsed() >= run_.timeLimit; };
+    const auto timeUp = [&] { return overTime() || stopped(); };
     for (;;) {
         bool remaining = false;
         for (const auto& c : chains)
             remaining |= c->done < c->quota;
-        if (!remaining || (run_.timeLimit > 0 && elapsed() >= run_.timeLimit)) break;
+        if (!remaining || overTime()) break;
         if (stopped()) {
             stats.interrupted = true;
             break;

@@ -4,6 +4,10 @@
 
 #include "math/error.h"
 #include "sampling/render.h"
+#include "scene/accel.h"
+
+#include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/task_arena.h>
 
 namespace lt {
 
@@ -106,16 +110,44 @@ private:
 
 PathSpaceSeeds seedWithBdpt(const Scene& scene, const BdptSettings& bdpt, uint64_t samples, size_t keep, uint64_t seed,
                             int threads, const std::atomic<bool>* stop) {
-    SampleFilm film(scene.camera);
-    const uint64_t pixels = uint64_t(film.width()) * uint64_t(film.height());
-    RenderSettings rs;
-    rs.bdpt = bdpt;
-    rs.spp = int(std::max<uint64_t>(1, (samples + pixels - 1) / pixels));
-    rs.threads = threads;
-    rs.seed = seed;
+    // `samples` BDPT samples at uniformly chosen pixels (not whole passes: on a large image a pass alone
+    // would outlast a short run), each with its own keyed stream; candidates reach the reservoir in
+    // sample order, block by block, so the draws do not depend on the thread count.
+    const SampleFilm film(scene.camera);
+    const Bdpt sampler(scene, bdpt);
+    const PixelRect window = film.window();
     SeedReservoir reservoir(keep, seed ^ 0x9e3779b97f4a7c15ULL);
-    const auto st = render(scene, rs, film, {}, stop, &reservoir);
-    return {reservoir.draws(), reservoir.normalization(st.samples, double(pixels))};
+    const int nThreads = threads > 0 ? threads : tbb::this_task_arena::max_concurrency();
+    tbb::task_arena arena(nThreads);
+    constexpr uint64_t Block = 1024;
+    const uint64_t blocks = (samples + Block - 1) / Block;
+    uint64_t done = 0;
+    for (uint64_t wave = 0; wave < blocks && !(stop && stop->load()); wave += uint64_t(2 * nThreads)) {
+        const uint64_t end = std::min(blocks, wave + uint64_t(2 * nThreads));
+        std::vector<std::vector<file::PathRecord>> candidates(size_t(end - wave));
+        arena.execute([&] {
+            tbb::parallel_for(wave, end, [&](uint64_t b) {
+                std::vector<Splat> splats;
+                SampleHealth health;
+                for (uint64_t i = b * Block; i < std::min(samples, (b + 1) * Block); ++i) {
+                    IndependentSampler u(mixBits(mixBits(seed ^ 0x5eedULL) + i), i);
+                    const int x = window.x0 + std::min(int(u.next1D() * window.width()), window.width() - 1);
+                    const int y = window.y0 + std::min(int(u.next1D() * window.height()), window.height() - 1);
+                    const StrategyCallback collect = [&](const StrategyPath& sp) {
+                        candidates[size_t(b - wave)].push_back(seedCandidate(scene, film, sp, i, 0));
+                    };
+                    splats.clear();
+                    (void)sampler.sample(film.sampleRaster(x, y, u.next2D()), u, splats, health, &collect);
+                }
+                EmbreeAccel::flushRayCount();
+            });
+        });
+        for (auto& block : candidates)
+            for (const auto& c : block)
+                reservoir.add(c);
+        done = std::min(samples, end * Block);
+    }
+    return {reservoir.draws(), reservoir.normalization(done, double(window.area()))};
 }
 
 ChainRunStats runPathSpaceChains(const Scene& scene, const PathSpaceSeeds& seeds,

@@ -28,8 +28,19 @@ double cpuSeconds() { return double(std::clock()) / CLOCKS_PER_SEC; }
 
 } // namespace
 
-RenderStats render(const Scene& scene, const RenderSettings& settings, SampleFilm& film, const ProgressCallback& progress,
-                   const std::atomic<bool>* stop, SeedReservoir* seeds, const SnapshotCallback& snapshot) {
+file::PathRecord seedCandidate(const Scene& scene, const SampleFilm& film, const StrategyPath& path, uint64_t stream,
+                               uint64_t offset) {
+    file::PathRecord rec = toPathRecord(scene, path, stream, offset);
+    if (path.t > 1) {
+        const double h = film.filterSum(path.raster);
+        rec.weight = h > 0 ? rec.weight / h : 0.0;
+    }
+    return rec;
+}
+
+RenderStats render(const Scene& scene, const RenderSettings& settings, SampleFilm& film,
+                   const ProgressCallback& progress, const std::atomic<bool>* stop, SeedReservoir* seeds,
+                   const SnapshotCallback& snapshot) {
     if (settings.spp < 0 || (settings.spp == 0 && !(settings.timeLimit > 0)))
         throw Error("give a positive sample count or a time limit");
     const Bdpt bdpt(scene, settings.bdpt);
@@ -56,30 +67,31 @@ RenderStats render(const Scene& scene, const RenderSettings& settings, SampleFil
             size_t(2 * threads + 2),
             // 1. Issue work items in a fixed order: pass by pass, tile by tile.
             tbb::make_filter<void, WorkItem*>(tbb::filter_mode::serial_in_order,
-                                               [&](tbb::flow_control& fc) -> WorkItem* {
-                                                   const uint64_t pass = nextItem / tilesPerPass;
-                                                   if ((stop && stop->load()) || pass >= maxPasses) {
-                                                       fc.stop();
-                                                       return nullptr;
-                                                   }
-                                                   // A time limit ends the run at a pass boundary.
-                                                   if (nextItem % tilesPerPass == 0 && settings.timeLimit > 0 &&
-                                                       elapsed() >= settings.timeLimit && pass > 0) {
-                                                       timeUp = true;
-                                                       fc.stop();
-                                                       return nullptr;
-                                                   }
-                                                   auto* item = new WorkItem;
-                                                   item->index = nextItem;
-                                                   item->pass = int(pass);
-                                                   const uint64_t tile = nextItem % tilesPerPass;
-                                                   const int tx = int(tile % uint64_t(tilesX)), ty = int(tile / uint64_t(tilesX));
-                                                   item->rect = {window.x0 + tx * ts, window.y0 + ty * ts,
-                                                                 std::min(window.x1, window.x0 + (tx + 1) * ts),
-                                                                 std::min(window.y1, window.y0 + (ty + 1) * ts)};
-                                                   ++nextItem;
-                                                   return item;
-                                               }) &
+                                              [&](tbb::flow_control& fc) -> WorkItem* {
+                                                  const uint64_t pass = nextItem / tilesPerPass;
+                                                  if ((stop && stop->load()) || pass >= maxPasses) {
+                                                      fc.stop();
+                                                      return nullptr;
+                                                  }
+                                                  // A time limit ends the run at a pass boundary.
+                                                  if (nextItem % tilesPerPass == 0 && settings.timeLimit > 0 &&
+                                                      elapsed() >= settings.timeLimit && pass > 0) {
+                                                      timeUp = true;
+                                                      fc.stop();
+                                                      return nullptr;
+                                                  }
+                                                  auto* item = new WorkItem;
+                                                  item->index = nextItem;
+                                                  item->pass = int(pass);
+                                                  const uint64_t tile = nextItem % tilesPerPass;
+                                                  const int tx = int(tile % uint64_t(tilesX)),
+                                                            ty = int(tile / uint64_t(tilesX));
+                                                  item->rect = {window.x0 + tx * ts, window.y0 + ty * ts,
+                                                                std::min(window.x1, window.x0 + (tx + 1) * ts),
+                                                                std::min(window.y1, window.y0 + (ty + 1) * ts)};
+                                                  ++nextItem;
+                                                  return item;
+                                              }) &
                 // 2. Render an item: one sample per pixel of its tile, each pixel sample with its own
                 //    random stream keyed by (seed, pass, pixel).
                 tbb::make_filter<WorkItem*, WorkItem*>(
@@ -92,34 +104,29 @@ RenderStats render(const Scene& scene, const RenderSettings& settings, SampleFil
                         std::vector<Splat> splats;
                         uint64_t pixel = 0;
                         const StrategyCallback collect = [&](const StrategyPath& sp) {
-                            file::PathRecord rec = toPathRecord(scene, sp, pixel, uint64_t(item->pass));
-                            // Camera strategies drew their raster position from h_j around their pixel:
-                            // over all pixels, from sum_j h_j. Dividing by it makes the weights integrate
-                            // f* over raster positions, as the chains' b does (film.h filterSum).
-                            if (sp.t > 1) {
-                                const double h = film.filterSum(sp.raster);
-                                rec.weight = h > 0 ? rec.weight / h : 0.0;
-                            }
-                            item->candidates.push_back(std::move(rec));
+                            item->candidates.push_back(seedCandidate(scene, film, sp, pixel, uint64_t(item->pass)));
                         };
                         for (int y = r.rect.y0; y < r.rect.y1; ++y)
                             for (int x = r.rect.x0; x < r.rect.x1; ++x) {
                                 pixel = uint64_t(y) * uint64_t(scene.camera.film().width) + uint64_t(x);
                                 // Initial state and stream both depend on the pixel: PCG streams that
                                 // differ only in their increment are correlated (Vigna 2018).
-                                IndependentSampler sampler(mixBits(mixBits(settings.seed ^ mixBits(uint64_t(item->pass))) + pixel), pixel);
+                                IndependentSampler sampler(
+                                    mixBits(mixBits(settings.seed ^ mixBits(uint64_t(item->pass))) + pixel), pixel);
                                 const Vec2 raster = film.sampleRaster(x, y, sampler.next2D());
                                 Spectrum L;
                                 if (settings.method == PixelMethod::Bdpt) {
                                     splats.clear();
                                     L = bdpt.sample(raster, sampler, splats, item->health, seeds ? &collect : nullptr);
-                                    for (const auto& s : splats) r.splats.push_back({s.raster, s.value});
+                                    for (const auto& s : splats)
+                                        r.splats.push_back({s.raster, s.value});
                                     ++r.lightPaths;
                                 } else {
                                     L = pt.sample(raster, sampler, item->health);
                                 }
                                 const size_t i = size_t(y - r.rect.y0) * size_t(r.rect.width()) + size_t(x - r.rect.x0);
-                                for (int c = 0; c < 3; ++c) r.sum[3 * i + size_t(c)] += L[c];
+                                for (int c = 0; c < 3; ++c)
+                                    r.sum[3 * i + size_t(c)] += L[c];
                                 ++r.count[i];
                             }
                         EmbreeAccel::flushRayCount();
@@ -130,7 +137,8 @@ RenderStats render(const Scene& scene, const RenderSettings& settings, SampleFil
                     std::unique_ptr<WorkItem> owned(item);
                     film.merge(item->result);
                     if (seeds)
-                        for (const auto& c : item->candidates) seeds->add(c);
+                        for (const auto& c : item->candidates)
+                            seeds->add(c);
                     stats.samples += item->result.rect.area();
                     stats.health.nonFinite += item->health.nonFinite;
                     const bool passEnd = (item->index + 1) % tilesPerPass == 0;

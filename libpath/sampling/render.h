@@ -20,27 +20,27 @@ enum class PixelMethod { Bdpt, PathTracing };
 struct RenderSettings {
     PixelMethod method = PixelMethod::Bdpt;
     BdptSettings bdpt;
-    int spp = 16;                  // samples per pixel (with timeLimit: an upper bound, 0 = none)
-    double timeLimit = 0;          // seconds; 0 = render exactly spp samples per pixel
-    int threads = 0;               // 0 = all cores
+    int spp = 16;         // samples per pixel (with timeLimit: an upper bound, 0 = none)
+    double timeLimit = 0; // seconds; 0 = render exactly spp samples per pixel
+    int threads = 0;      // 0 = all cores
     uint64_t seed = 0;
     int tileSize = 32;
-    SnapshotSchedule snapshots;    // checked at the end of every complete pass
+    SnapshotSchedule snapshots; // checked at the end of every complete pass
 };
 
 struct RenderProgress {
-    uint64_t samples = 0;          // camera samples merged so far
-    uint64_t totalSamples = 0;     // expected total (0 when only a time limit bounds the run)
-    double wallSeconds = 0;        // rendering time: wall clock minus the time spent writing snapshots
+    uint64_t samples = 0;      // camera samples merged so far
+    uint64_t totalSamples = 0; // expected total (0 when only a time limit bounds the run)
+    double wallSeconds = 0;    // rendering time: wall clock minus the time spent writing snapshots
     double cpuSeconds = 0;
-    double snapshotSeconds = 0;    // wall time spent in the snapshot callback so far
-    int passesDone = 0;            // complete passes (one sample per pixel each)
+    double snapshotSeconds = 0; // wall time spent in the snapshot callback so far
+    int passesDone = 0;         // complete passes (one sample per pixel each)
 };
 
 struct RenderStats {
     uint64_t samples = 0;
-    uint64_t rays = 0;             // rays traced (closest hit and shadow)
-    int passes = 0;                // complete passes merged
+    uint64_t rays = 0; // rays traced (closest hit and shadow)
+    int passes = 0;    // complete passes merged
     double wallSeconds = 0, cpuSeconds = 0;
     SampleHealth health;
     bool interrupted = false;
@@ -53,10 +53,16 @@ using ProgressCallback = std::function<void(const RenderProgress&)>;
 // of the times it and later snapshots report.
 using SnapshotCallback = std::function<void(const RenderProgress&, const SampleFilm&)>;
 
+// A BDPT strategy path as a candidate seed path: its record, with the resampling weight of camera
+// strategies divided by the sum of the pixel filters at its raster position (film.h filterSum), so that
+// the weights integrate f* over raster positions as the Markov chains' b does.
+[[nodiscard]] file::PathRecord seedCandidate(const Scene& scene, const SampleFilm& film, const StrategyPath& path,
+                                             uint64_t stream, uint64_t offset);
+
 // With `seeds`, every BDPT strategy path becomes a candidate seed path (path/path_record.h) offered to the
 // reservoir in work-item order, so the kept draws, too, do not depend on the thread count.
-RenderStats render(const Scene& scene, const RenderSettings& settings, SampleFilm& film, const ProgressCallback& progress,
-                   const std::atomic<bool>* stop, SeedReservoir* seeds = nullptr,
+RenderStats render(const Scene& scene, const RenderSettings& settings, SampleFilm& film,
+                   const ProgressCallback& progress, const std::atomic<bool>* stop, SeedReservoir* seeds = nullptr,
                    const SnapshotCallback& snapshot = {});
 
 } // namespace lt

@@ -2,7 +2,8 @@
 # Benchmark of lt-mutate (report the numbers in the issue note; nothing here is asserted): mutations/s,
 # rays/s and acceptance per strategy for each chain space, at 1 and 2 threads, with peak memory. Run it
 # on an otherwise idle machine.
-#   pipelines/bench/mutate.sh [SECONDS] [SCENE...]   (default: 20 s; shared cornell-box and veach-bidir)
+#   [SPACES="path primary multiplexed"] pipelines/bench/mutate.sh [SECONDS] [SCENE...]
+#   (default: 20 s, all three spaces; shared cornell-box and veach-bidir)
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 seconds="${1:-20}"; shift || true
@@ -17,7 +18,7 @@ echo "$seconds s per run (start-up included), scene resolution, $(nproc) cores"
 for scene in "${scenes[@]}"; do
   echo
   echo "== $scene"
-  for space in primary multiplexed; do
+  for space in ${SPACES:-path primary multiplexed}; do
     for threads in 1 2; do
       log="$out/$space-$threads.log"
       /usr/bin/time -f "%M" -o "$out/mem" "$bin/lt-mutate" "$scene" --space "$space" --time "$seconds" \

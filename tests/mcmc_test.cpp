@@ -169,7 +169,7 @@ std::vector<float> runChains(const Scene& scene, PrimarySpace space, int maxDept
     ps.startupSamples = startup;
     ChainRunSettings rs;
     rs.mutations = mutations;
-    rs.chains = 32;
+    rs.chains = 128;
     rs.threads = threads;
     rs.seed = seed;
     const auto st = runPrimarySpaceChains(scene, ps, rs, film, {}, nullptr);
@@ -402,6 +402,15 @@ TEST_CASE("PSSMLT, MMLT and path-space MLT converge to BDPT on the shared cornel
                      {{"PSSMLT", primaryRuns(*scene, PrimarySpace::Kelemen, 4)},
                       {"MMLT", primaryRuns(*scene, PrimarySpace::Multiplexed, 4)},
                       {"path-space MLT", pathRuns(*scene, "bidirectional", 4)}});
+}
+
+TEST_CASE("PSSMLT, MMLT and path-space MLT converge to BDPT on the shared veach-bidir", "[mcmc][slow]") {
+    // The glass egg's caustic and the lamps' small lights: the scene the chains are meant for.
+    auto scene = loadScene(test::sharedScene("veach-bidir"));
+    checkAgainstBdpt(*scene, 5, 6,
+                     {{"PSSMLT", primaryRuns(*scene, PrimarySpace::Kelemen, 5)},
+                      {"MMLT", primaryRuns(*scene, PrimarySpace::Multiplexed, 5)},
+                      {"path-space MLT", pathRuns(*scene, "auto", 5)}});
 }
 
 TEST_CASE("path-space MLT converges to BDPT through glass and mirror spheres", "[mcmc][slow]") {

@@ -30,15 +30,6 @@ file::Buffer rgbImage(uint32_t w, uint32_t h, const std::vector<Rgb>& pixels) {
     return b;
 }
 
-std::string errorOf(const std::function<void()>& f) {
-    try {
-        f();
-    } catch (const Error& e) {
-        return e.what();
-    }
-    return "(no error)";
-}
-
 // The 2x2 case. Each pixel exercises one thing:
 //   p0 grey reference 1, R off by 1;
 //   p1 black reference, R = 0.1: epsilons and SMAPE's 0/0 on G, B;
@@ -136,34 +127,34 @@ TEST_CASE("a NaN in the image is the worst pixel: trimmed first, else it shows",
 
 TEST_CASE("error metrics reject bad inputs with one clear message", "[error]") {
     const ErrorReference ref(kRef22, "ref.exr");
-    CHECK(errorOf([&] {
+    CHECK(test::errorOf([&] {
               (void)ref.error(rgbImage(3, 1, {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}), "img.lts", {});
           }) == "cannot compare img.lts with ref.exr: sizes differ (3x1 and 2x2)");
     file::Buffer noG = kRef22;
     noG.channels = {"R", "X", "B"};
-    CHECK(errorOf([&] { ErrorReference r(noG, "ref.exr"); }) ==
+    CHECK(test::errorOf([&] { ErrorReference r(noG, "ref.exr"); }) ==
           "ref.exr: no channel G (the error is measured on channels R, G, B; it has R, X, B)");
-    CHECK(errorOf([&] { (void)ref.error(noG, "img.lts", {}); }) ==
+    CHECK(test::errorOf([&] { (void)ref.error(noG, "img.lts", {}); }) ==
           "img.lts: no channel G (the error is measured on channels R, G, B; it has R, X, B)");
 
     // The first bad pixel in row-major order is named: the Inf at (1, 0) before the NaN at (1, 1).
     file::Buffer bad = kRef22;
     bad.planes[2][3] = std::numeric_limits<float>::quiet_NaN(); // B at (1, 1)
-    CHECK(errorOf([&] { ErrorReference r(bad, "ref.exr"); }) ==
+    CHECK(test::errorOf([&] { ErrorReference r(bad, "ref.exr"); }) ==
           "ref.exr: the reference has a NaN at pixel (1, 1) in channel B");
     bad.planes[1][1] = std::numeric_limits<float>::infinity(); // G at (1, 0)
-    CHECK(errorOf([&] { ErrorReference r(bad, "ref.exr"); }) ==
+    CHECK(test::errorOf([&] { ErrorReference r(bad, "ref.exr"); }) ==
           "ref.exr: the reference has an infinite value at pixel (1, 0) in channel G");
 
-    CHECK(errorOf([&] {
+    CHECK(test::errorOf([&] {
               (void)ref.error(kImg22, "img", {ErrorMetric::RelMSE, 0, Crop{1, 1, 2, 1}});
           }) == "crop 1,1,2,1 does not fit the 2x2 image");
-    CHECK(errorOf([&] {
+    CHECK(test::errorOf([&] {
               (void)ref.error(kImg22, "img", {ErrorMetric::RelMSE, 1, {}});
           }) == "trim fraction 1.000000 is outside [0, 1)");
-    CHECK(errorOf([] { (void)parseCrop("1,2,3"); }) == "crop '1,2,3' is not X,Y,W,H (whole numbers, W and H > 0)");
-    CHECK(errorOf([] { (void)parseCrop("1,2,0,4"); }) == "crop '1,2,0,4' is not X,Y,W,H (whole numbers, W and H > 0)");
-    CHECK(errorOf([] { (void)parseErrorMetric("psnr"); }) ==
+    CHECK(test::errorOf([] { (void)parseCrop("1,2,3"); }) == "crop '1,2,3' is not X,Y,W,H (whole numbers, W and H > 0)");
+    CHECK(test::errorOf([] { (void)parseCrop("1,2,0,4"); }) == "crop '1,2,0,4' is not X,Y,W,H (whole numbers, W and H > 0)");
+    CHECK(test::errorOf([] { (void)parseErrorMetric("psnr"); }) ==
           "unknown error metric 'psnr' (relmse, rrmse, mse, mape or smape)");
     const Crop c = parseCrop("1,2,3,4");
     CHECK((c.x == 1 && c.y == 2 && c.width == 3 && c.height == 4));

@@ -38,15 +38,6 @@ const std::vector<float>& plane(const file::Buffer& b, const std::string& name) 
     return b.planes[size_t(it - b.channels.begin())];
 }
 
-std::string errorOf(const std::function<void()>& f) {
-    try {
-        f();
-    } catch (const Error& e) {
-        return e.what();
-    }
-    return "(no error)";
-}
-
 // Files in `dir` other than `except`: a failed write must leave no temporary file behind.
 std::vector<std::string> leftovers(const fs::path& dir, const std::string& except = "") {
     std::vector<std::string> names;
@@ -118,9 +109,9 @@ TEST_CASE("an EXR written by other software reads as a buffer (half floats, laye
     CHECK(plane(b, "diffuse.R") == std::vector<float>{4, -1, 5, 10});
     CHECK(b.combine == "weighted-mean");
     CHECK(b.weight == 1);
-    CHECK_THAT(errorOf([&] { (void)readExr(dir.file("missing.exr")); }), Catch::Contains("missing.exr"));
+    CHECK_THAT(test::errorOf([&] { (void)readExr(dir.file("missing.exr")); }), Catch::Contains("missing.exr"));
     const std::string notExr = dir.write("x.exr", "not an image");
-    CHECK_THAT(errorOf([&] { (void)readExr(notExr); }), Catch::Contains(notExr));
+    CHECK_THAT(test::errorOf([&] { (void)readExr(notExr); }), Catch::Contains(notExr));
 }
 
 TEST_CASE("PNG preview: sRGB of the exposed linear value, clamped, NaN-safe", "[image]") {
@@ -151,7 +142,7 @@ TEST_CASE("PNG preview: sRGB of the exposed linear value, clamped, NaN-safe", "[
     CHECK(std::vector<uint8_t>(exposed.begin() + 3, exposed.begin() + 6) == std::vector<uint8_t>{188, 188, 188});
     // No beauty channels: a clear error, no file.
     const file::Buffer grad = makeBuffer(2, 2, {"dx.X"}, 1, 0);
-    CHECK_THAT(errorOf([&] { writePng(dir.file("c.png"), grad, 0); }), Catch::Contains("no R, G, B"));
+    CHECK_THAT(test::errorOf([&] { writePng(dir.file("c.png"), grad, 0); }), Catch::Contains("no R, G, B"));
     CHECK(!fs::exists(dir.file("c.png")));
 }
 
@@ -193,7 +184,7 @@ TEST_CASE("merging mismatched buffers fails naming both files", "[image]") {
     const file::Buffer a = makeBuffer(2, 2, {"R", "G", "B"}, 1, 0);
     auto fails = [&](const file::Buffer& b, const std::string& what) {
         const std::vector<file::Buffer> both = {a, b};
-        const std::string msg = errorOf([&] { (void)mergeBuffers(both, names); });
+        const std::string msg = test::errorOf([&] { (void)mergeBuffers(both, names); });
         CHECK_THAT(msg, Catch::Contains("a.lts") && Catch::Contains("b.exr") && Catch::Contains(what));
     };
     fails(makeBuffer(3, 2, {"R", "G", "B"}, 1, 0), "sizes differ (2x2 and 3x2)");
@@ -205,7 +196,7 @@ TEST_CASE("merging mismatched buffers fails naming both files", "[image]") {
     const std::vector<file::Buffer> oneEmpty = {a, makeBuffer(2, 2, {"R", "G", "B"}, 0, 0)};
     CHECK(mergeBuffers(oneEmpty, names).planes == a.planes);
     const std::vector<file::Buffer> zero = {makeBuffer(2, 2, {"R"}, 0, 0), makeBuffer(2, 2, {"R"}, 0, 0)};
-    CHECK_THAT(errorOf([&] { (void)mergeBuffers(zero, names); }), Catch::Contains("total weight 0"));
+    CHECK_THAT(test::errorOf([&] { (void)mergeBuffers(zero, names); }), Catch::Contains("total weight 0"));
 }
 
 TEST_CASE("failed image writes leave nothing under the final name", "[image]") {
@@ -217,7 +208,7 @@ TEST_CASE("failed image writes leave nothing under the final name", "[image]") {
         const std::string notDir = dir.write("plain", "x");
         for (const std::string ext : {".exr", ".png"}) {
             const std::string path = notDir + "/out" + ext;
-            const std::string msg = errorOf([&] {
+            const std::string msg = test::errorOf([&] {
                 if (ext == ".exr")
                     writeExr(path, good, nlohmann::json::object());
                 else
@@ -231,11 +222,11 @@ TEST_CASE("failed image writes leave nothing under the final name", "[image]") {
         const std::string path = dir.write("out.exr", "previous");
         file::Buffer bad = good;
         bad.planes[1].pop_back();
-        CHECK_THAT(errorOf([&] { writeExr(path, bad, nlohmann::json::object()); }),
+        CHECK_THAT(test::errorOf([&] { writeExr(path, bad, nlohmann::json::object()); }),
                    Catch::Contains(path) && Catch::Contains("plane 'G' has 15 values, expected 16"));
         bad = good;
         bad.channels[2] = "R";
-        CHECK_THAT(errorOf([&] { writePng(path, bad, 0); }), Catch::Contains("'R' twice"));
+        CHECK_THAT(test::errorOf([&] { writePng(path, bad, 0); }), Catch::Contains("'R' twice"));
         CHECK(leftovers(dir.path) == std::vector<std::string>{"out.exr"});
         std::ifstream in(path);
         CHECK(std::string(std::istreambuf_iterator<char>(in), {}) == "previous");
@@ -243,7 +234,7 @@ TEST_CASE("failed image writes leave nothing under the final name", "[image]") {
     SECTION("the rename fails: the temporary file is removed") {
         // The final name is a non-empty directory, so the image is written but cannot be renamed.
         fs::create_directories(dir.path / "out.exr" / "inside");
-        CHECK_THAT(errorOf([&] { writeExr(dir.file("out.exr"), good, nlohmann::json::object()); }),
+        CHECK_THAT(test::errorOf([&] { writeExr(dir.file("out.exr"), good, nlohmann::json::object()); }),
                    Catch::Contains("cannot rename"));
         CHECK(leftovers(dir.path) == std::vector<std::string>{"out.exr"});
     }

@@ -241,12 +241,7 @@ std::string smallBufferFile(const test::TempDir& dir) {
 }
 
 std::string errorOf(const std::string& path, std::optional<FileKind> expected = std::nullopt) {
-    try {
-        (void)readAll(path, expected);
-    } catch (const Error& e) {
-        return e.what();
-    }
-    return "(no error)";
+    return test::errorOf([&] { (void)readAll(path, expected); });
 }
 
 bool startsWith(const std::string& s, const std::string& prefix) { return s.rfind(prefix, 0) == 0; }

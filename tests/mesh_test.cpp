@@ -27,15 +27,6 @@ namespace {
 
 using test::TempDir;
 
-std::string errorOf(const std::function<void()> &f) {
-    try {
-        f();
-    } catch (const Error &e) {
-        return e.what();
-    }
-    return "(no error)";
-}
-
 // ------------------------------------------------------------------------------------------- OBJ
 
 // Two quads sharing the edge 2-3, written as two groups, with a material library that does not exist.
@@ -111,35 +102,35 @@ TEST_CASE("OBJ: error messages", "[mesh]") {
     TempDir dir;
     MeshLoadReport report;
     const std::string missing = (dir.path / "nope.obj").string();
-    CHECK(errorOf([&] { loadObj(missing, report); }) == missing + ": cannot open file (No such file or directory)");
+    CHECK(test::errorOf([&] { loadObj(missing, report); }) == missing + ": cannot open file (No such file or directory)");
 
     const std::string bad = dir.write("bad.obj", "v 0 0 0\nv 1 abc 0\nv 1 1 0\nf 1 2 3\n");
-    CHECK(errorOf([&] { loadObj(bad, report); }) == bad + ":2: bad number 'abc'");
+    CHECK(test::errorOf([&] { loadObj(bad, report); }) == bad + ":2: bad number 'abc'");
 
     const std::string nan = dir.write("nan.obj", "v 0 0 0\nv 1 0 0\nv nan 1 0\nf 1 2 3\n");
-    CHECK(errorOf([&] { loadObj(nan, report); }) == nan + ":3: non-finite number 'nan'");
+    CHECK(test::errorOf([&] { loadObj(nan, report); }) == nan + ":3: non-finite number 'nan'");
 
     const std::string huge = dir.write("huge.obj", "v 0 0 0\nv 1 0 1e999\nv 1 1 0\nf 1 2 3\n");
-    CHECK(errorOf([&] { loadObj(huge, report); }) == huge + ":2: number '1e999' is out of range");
+    CHECK(test::errorOf([&] { loadObj(huge, report); }) == huge + ":2: number '1e999' is out of range");
 
     const std::string shortV = dir.write("short.obj", "v 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 3\n");
-    CHECK(errorOf([&] { loadObj(shortV, report); }) == shortV + ":1: 'v' needs 3 numbers, found 2");
+    CHECK(test::errorOf([&] { loadObj(shortV, report); }) == shortV + ":1: 'v' needs 3 numbers, found 2");
 
     const std::string range = dir.write("range.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 3\nf 1 2 9\n");
-    CHECK(errorOf([&] { loadObj(range, report); }) ==
+    CHECK(test::errorOf([&] { loadObj(range, report); }) ==
           range + ": face 2 refers to vertex 9 but the file has 3 vertices");
 
     const std::string back = dir.write("back.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf -10 1 2\n");
-    CHECK(errorOf([&] { loadObj(back, report); }) ==
+    CHECK(test::errorOf([&] { loadObj(back, report); }) ==
           back + ": face 1 refers to a vertex before the first one (a relative index reaching too far back)");
 
     const std::string normal = dir.write("normal.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nvn 0 0 1\nf 1//1 2//5 3//1\n");
-    CHECK(errorOf([&] { loadObj(normal, report); }) ==
+    CHECK(test::errorOf([&] { loadObj(normal, report); }) ==
           normal + ": face 1 refers to normal 5 but the file has 1 normals");
 
     // tinyobjloader's own message, prefixed with the file name and kept on one line.
     const std::string face = dir.write("face.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 x\n");
-    CHECK(errorOf([&] { loadObj(face, report); }) ==
+    CHECK(test::errorOf([&] { loadObj(face, report); }) ==
           face + ": Failed parse `f' line(e.g. zero value for face index. line 4.)");
 }
 
@@ -154,9 +145,9 @@ TEST_CASE("OBJ: degenerate triangles are removed and counted; an all-degenerate 
     CHECK(report.degenerateTrianglesRemoved == 2);
 
     const std::string flat = dir.write("flat.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\nf 3 2 1\n");
-    CHECK(errorOf([&] { loadObj(flat, report); }) == flat + ": no non-degenerate triangles");
+    CHECK(test::errorOf([&] { loadObj(flat, report); }) == flat + ": no non-degenerate triangles");
     const std::string empty = dir.write("empty.obj", "# nothing here\n");
-    CHECK(errorOf([&] { loadObj(empty, report); }) == empty + ": no non-degenerate triangles");
+    CHECK(test::errorOf([&] { loadObj(empty, report); }) == empty + ": no non-degenerate triangles");
 }
 
 TEST_CASE("OBJ: the veach-bidir meshes load with plausible counts", "[mesh]") {
@@ -205,20 +196,20 @@ TEST_CASE("validateMesh: messages name the vertex or triangle", "[mesh]") {
 
     TriangleMesh m = square();
     m.positions[2] = {nan, 0, 1};
-    CHECK(errorOf([&] { validateMesh(m, "models/bad.obj", report); }) ==
+    CHECK(test::errorOf([&] { validateMesh(m, "models/bad.obj", report); }) ==
           "models/bad.obj: vertex 2 has a non-finite position (nan, 0, 1)");
     m = square();
     m.normals = {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}, {0, -inf, 1}};
-    CHECK(errorOf([&] { validateMesh(m, "m.ply", report); }) == "m.ply: vertex 3 has a non-finite normal (0, -inf, 1)");
+    CHECK(test::errorOf([&] { validateMesh(m, "m.ply", report); }) == "m.ply: vertex 3 has a non-finite normal (0, -inf, 1)");
     m = square();
     m.uvs = {{0, 0}, {nan, 0}, {0, 0}, {0, 0}};
-    CHECK(errorOf([&] { validateMesh(m, "m.ply", report); }) == "m.ply: vertex 1 has a non-finite uv (nan, 0)");
+    CHECK(test::errorOf([&] { validateMesh(m, "m.ply", report); }) == "m.ply: vertex 1 has a non-finite uv (nan, 0)");
     m = square();
     m.normals = {{0, 0, 1}};
-    CHECK(errorOf([&] { validateMesh(m, "m.ply", report); }) == "m.ply: the mesh has 4 vertices but 1 normals");
+    CHECK(test::errorOf([&] { validateMesh(m, "m.ply", report); }) == "m.ply: the mesh has 4 vertices but 1 normals");
     m = square();
     m.triangles[1] = {0, 99, 3};
-    CHECK(errorOf([&] { validateMesh(m, "models/bad.obj", report); }) ==
+    CHECK(test::errorOf([&] { validateMesh(m, "models/bad.obj", report); }) ==
           "models/bad.obj: triangle 1 refers to vertex 99 but the mesh has 4 vertices");
 
     // A triangle whose area underflows in float is as degenerate as a collinear one.
@@ -341,7 +332,7 @@ TEST_CASE("PLY: truncation is reported with element and item", "[mesh]") {
     const std::string header = ply.header(), body = ply.body();
     auto cutAt = [&](size_t bodyBytes) {
         const std::string file = dir.write("cut.ply", header + body.substr(0, bodyBytes));
-        return errorOf([&] { loadPly(file, report); }).substr(file.size());
+        return test::errorOf([&] { loadPly(file, report); }).substr(file.size());
     };
     const size_t vertices = 5 * BinaryPly::kVertexSize, edges = 2 * BinaryPly::kEdgeSize;
     CHECK(cutAt(0) == ": truncated in element 'vertex' at item 0 of 5");
@@ -352,7 +343,7 @@ TEST_CASE("PLY: truncation is reported with element and item", "[mesh]") {
 
     const std::string ascii = asciiPly();
     const std::string cut = dir.write("cut_ascii.ply", ascii.substr(0, ascii.find("\n3 3 2 4")));
-    CHECK(errorOf([&] { loadPly(cut, report); }) == cut + ": truncated in element 'face' at item 1 of 2");
+    CHECK(test::errorOf([&] { loadPly(cut, report); }) == cut + ": truncated in element 'face' at item 1 of 2");
 }
 
 TEST_CASE("PLY: header and value errors", "[mesh]") {
@@ -360,10 +351,10 @@ TEST_CASE("PLY: header and value errors", "[mesh]") {
     MeshLoadReport report;
     auto errorFor = [&](const std::string &contents) {
         const std::string file = dir.write("bad.ply", contents);
-        return errorOf([&] { loadPly(file, report); }).substr(file.size());
+        return test::errorOf([&] { loadPly(file, report); }).substr(file.size());
     };
     const std::string missing = (dir.path / "nope.ply").string();
-    CHECK(errorOf([&] { loadPly(missing, report); }) == missing + ": cannot open file (No such file or directory)");
+    CHECK(test::errorOf([&] { loadPly(missing, report); }) == missing + ": cannot open file (No such file or directory)");
     CHECK(errorFor("PLY\nformat ascii 1.0\nend_header\n") == ": not a PLY file (it does not start with 'ply')");
     CHECK(errorFor("ply\nformat binary_ppc 1.0\nend_header\n") == ": unsupported PLY format 'binary_ppc 1.0'");
     CHECK(errorFor("ply\nformat ascii 1.0\nelement vertex 3\nproperty flot x\nend_header\n") ==
@@ -525,25 +516,25 @@ TEST_CASE("serialized: error messages", "[mesh]") {
     MeshLoadReport report;
     const std::string good = serializedFile(4, {triangleMesh(0x1000), quadMesh(0x2000)});
     const std::string file = dir.write("two.serialized", good);
-    CHECK(errorOf([&] { loadSerialized(file, 5, report); }) ==
+    CHECK(test::errorOf([&] { loadSerialized(file, 5, report); }) ==
           file + ": shapeIndex 5 out of range, the file holds 2 meshes");
-    CHECK(errorOf([&] { loadSerialized(file, -1, report); }) ==
+    CHECK(test::errorOf([&] { loadSerialized(file, -1, report); }) ==
           file + ": shapeIndex -1 out of range, the file holds 2 meshes");
 
     const std::string missing = (dir.path / "nope.serialized").string();
-    CHECK(errorOf([&] { loadSerialized(missing, 0, report); }) ==
+    CHECK(test::errorOf([&] { loadSerialized(missing, 0, report); }) ==
           missing + ": cannot open file (No such file or directory)");
 
     std::string badId = good;
     badId[0] = 0x34, badId[1] = 0x12;
     const std::string badIdFile = dir.write("id.serialized", badId);
-    CHECK(errorOf([&] { loadSerialized(badIdFile, 0, report); }) ==
+    CHECK(test::errorOf([&] { loadSerialized(badIdFile, 0, report); }) ==
           badIdFile + ": not a Mitsuba serialized mesh (format id 0x1234, expected 0x041C)");
 
     std::string badVersion = good;
     badVersion[2] = 5;
     const std::string badVersionFile = dir.write("version.serialized", badVersion);
-    CHECK(errorOf([&] { loadSerialized(badVersionFile, 0, report); }) ==
+    CHECK(test::errorOf([&] { loadSerialized(badVersionFile, 0, report); }) ==
           badVersionFile + ": unsupported serialized version 5 (expected 3 or 4)");
 
     // The second mesh's zlib header (two bytes after its own 4-byte header) made invalid.
@@ -551,26 +542,26 @@ TEST_CASE("serialized: error messages", "[mesh]") {
     std::string corrupt = good;
     corrupt[second + 4] = char(0xFF);
     const std::string corruptFile = dir.write("corrupt.serialized", corrupt);
-    CHECK(errorOf([&] { loadSerialized(corruptFile, 1, report); }) ==
+    CHECK(test::errorOf([&] { loadSerialized(corruptFile, 1, report); }) ==
           corruptFile + ": mesh 1: corrupt compressed data (zlib: incorrect header check)");
     CHECK(loadSerialized(corruptFile, 0, report).triangles.size() == 1); // the first mesh is intact
 
     // Cut inside the first mesh: the dictionary is gone, so (as Mitsuba does) the file is taken to hold
     // one mesh at offset 0, whose compressed data then ends early.
     const std::string cutFile = dir.write("cut.serialized", good.substr(0, second - 6));
-    CHECK(errorOf([&] { loadSerialized(cutFile, 0, report); }) ==
+    CHECK(test::errorOf([&] { loadSerialized(cutFile, 0, report); }) ==
           cutFile + ": mesh 0: truncated (the file ends inside the compressed data)");
 
     // A well-formed zlib stream that ends before the announced data.
     SerializedMeshData shortMesh = triangleMesh(0x1000);
     shortMesh.announcedTriangles = 2;
     const std::string shortFile = dir.write("short.serialized", serializedFile(3, {shortMesh}));
-    CHECK(errorOf([&] { loadSerialized(shortFile, 0, report); }) ==
+    CHECK(test::errorOf([&] { loadSerialized(shortFile, 0, report); }) ==
           shortFile + ": mesh 0: truncated (the compressed data ends before the mesh it announces)");
 
     SerializedMeshData nanMesh = triangleMesh(0x2000);
     nanMesh.positions[4] = std::numeric_limits<double>::quiet_NaN();
     const std::string nanFile = dir.write("nan.serialized", serializedFile(4, {nanMesh}));
-    CHECK(errorOf([&] { loadSerialized(nanFile, 0, report); }) ==
+    CHECK(test::errorOf([&] { loadSerialized(nanFile, 0, report); }) ==
           nanFile + ": vertex 1 has a non-finite position (1, nan, 0)");
 }

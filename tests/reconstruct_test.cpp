@@ -6,6 +6,8 @@
 #include <Eigen/Dense>
 #include <Eigen/Sparse>
 #include <catch2/catch.hpp>
+
+#include "test_util.h"
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -162,15 +164,6 @@ RgbPlanes eigenReference(const GradientImage& im, double alpha) {
         out[c].assign(x.data(), x.data() + n);
     }
     return out;
-}
-
-std::string errorOf(const std::function<void()>& f) {
-    try {
-        f();
-    } catch (const Error& e) {
-        return e.what();
-    }
-    return "(no error)";
 }
 
 } // namespace
@@ -476,28 +469,28 @@ TEST_CASE("bad input and settings: one message naming the file and the problem",
 
     file::Buffer nan = b;
     nan.planes[4][5] = std::numeric_limits<float>::quiet_NaN(); // dx.G at (1, 1)
-    CHECK(errorOf([&] { (void)gradientImageFromBuffer(nan, "in.lts"); }) ==
+    CHECK(test::errorOf([&] { (void)gradientImageFromBuffer(nan, "in.lts"); }) ==
           "in.lts: channel dx.G is NaN at pixel (1, 1)");
     file::Buffer inf = b;
     inf.planes[8][11] = std::numeric_limits<float>::infinity();
-    CHECK(errorOf([&] { (void)gradientImageFromBuffer(inf, "in.lts"); }) ==
+    CHECK(test::errorOf([&] { (void)gradientImageFromBuffer(inf, "in.lts"); }) ==
           "in.lts: channel dy.B is infinite at pixel (3, 2)");
 
     file::Buffer missing = b;
     missing.channels.resize(6);
     missing.planes.resize(6);
-    CHECK(errorOf([&] { (void)gradientImageFromBuffer(missing, "in.exr"); }) ==
+    CHECK(test::errorOf([&] { (void)gradientImageFromBuffer(missing, "in.exr"); }) ==
           "in.exr: no layer 'dy' (channels dy.R/G/B); it has primal.R, primal.G, primal.B, dx.R, dx.G, dx.B");
     file::Buffer partial = b;
     partial.channels.push_back("direct.R");
     partial.planes.push_back(truth[0]);
-    CHECK(errorOf([&] { (void)gradientImageFromBuffer(partial, "in.lts"); }) ==
+    CHECK(test::errorOf([&] { (void)gradientImageFromBuffer(partial, "in.lts"); }) ==
           "in.lts: layer 'direct' is incomplete: no channel direct.G, direct.B");
 
     // Separate files: plain R, G, B per file; a size mismatch names the file that differs.
     const file::Buffer p = rgbBuffer(w, h, truth), small = rgbBuffer(2, 2, smoothImage(2, 2));
     CHECK_NOTHROW(gradientImageFromLayers({&p, "p.exr"}, {&p, "dx.exr"}, {&p, "dy.exr"}, std::nullopt));
-    CHECK(errorOf([&] {
+    CHECK(test::errorOf([&] {
               (void)gradientImageFromLayers({&p, "p.exr"}, {&small, "dx.exr"}, {&p, "dy.exr"}, std::nullopt);
           }) == "dx.exr: 2x2 does not match the primal p.exr (4x3)");
 

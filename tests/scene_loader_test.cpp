@@ -25,12 +25,7 @@ std::string sceneFile(const test::TempDir& dir, const std::string& body, const s
 }
 
 std::string errorOf(const std::string& file, const std::map<std::string, std::string>& params = {}) {
-    try {
-        (void)loadScene(file, params);
-    } catch (const Error& e) {
-        return e.what();
-    }
-    return "(no error)";
+    return test::errorOf([&] { (void)loadScene(file, params); });
 }
 
 const Shape& onlyShape(const Scene& s) {

@@ -4,8 +4,11 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <functional>
 #include <fstream>
 #include <string>
+
+#include "math/error.h"
 
 namespace lt::test {
 
@@ -41,6 +44,16 @@ inline std::string sharedScene(const std::string& name) {
 }
 inline std::string shippedScene(const std::string& name) {
     return std::string(LT_SOURCE_DIR) + "/scenes/" + name + "/scene.xml";
+}
+
+// The message of the lt::Error that f throws, or "(no error)".
+inline std::string errorOf(const std::function<void()>& f) {
+    try {
+        f();
+    } catch (const Error& e) {
+        return e.what();
+    }
+    return "(no error)";
 }
 
 // A closed box whose walls all emit Le = 1 and reflect diffusely with albedo rho, seen from inside;

@@ -36,15 +36,6 @@ template <class T> std::string writeImage(const fs::path &path, int width, int h
     return path.string();
 }
 
-std::string errorOf(const std::function<void()> &f) {
-    try {
-        f();
-    } catch (const Error &e) {
-        return e.what();
-    }
-    return "(no error)";
-}
-
 double srgbToLinear(double v) {
     return v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4);
 }
@@ -139,28 +130,28 @@ TEST_CASE("bitmap: 8-bit images are decoded from sRGB unless gamma says otherwis
     const std::string exr = writeImage(dir.path / "bright.exr", 1, 1, 3, OIIO::TypeDesc::HALF, hdr);
     checkSpectrum(BitmapTexture(exr, 0, kNoOffset, kUnitScale).eval({0.5, 0.5}), Spectrum(4.5, 0.25, 0));
 
-    CHECK(errorOf([&] { BitmapTexture(png, -2, kNoOffset, kUnitScale); }) ==
+    CHECK(test::errorOf([&] { BitmapTexture(png, -2, kNoOffset, kUnitScale); }) ==
           png + ": gamma -2.000000 is not supported (use -1 for sRGB, 0 for automatic or a positive exponent)");
 }
 
 TEST_CASE("bitmap: unreadable files and non-finite pixels are errors naming the file", "[texture]") {
     TempDir dir;
     const std::string missing = (dir.path / "missing.png").string();
-    const std::string missingError = errorOf([&] { BitmapTexture(missing, 0, kNoOffset, kUnitScale); });
+    const std::string missingError = test::errorOf([&] { BitmapTexture(missing, 0, kNoOffset, kUnitScale); });
     CHECK_THAT(missingError, Catch::StartsWith(missing + ": cannot read image (") && Catch::EndsWith(")"));
     CHECK(missingError.find('\n') == std::string::npos);
 
     const std::string garbage = (dir.path / "garbage.png").string();
     std::ofstream(garbage) << "this is not a PNG file";
-    CHECK_THAT(errorOf([&] { BitmapTexture(garbage, 0, kNoOffset, kUnitScale); }),
+    CHECK_THAT(test::errorOf([&] { BitmapTexture(garbage, 0, kNoOffset, kUnitScale); }),
                Catch::StartsWith(garbage + ": cannot read image (") && Catch::EndsWith(")"));
 
     const float nan = std::numeric_limits<float>::quiet_NaN();
     const std::vector<float> pixels = {0, 0, 0, 1, 1, 1, 0.5f, nan, 0.5f, 0, 0, 0};
     const std::string exr = writeImage(dir.path / "nan.exr", 2, 2, 3, OIIO::TypeDesc::FLOAT, pixels);
-    CHECK(errorOf([&] { BitmapTexture(exr, 0, kNoOffset, kUnitScale); }) == exr + ": pixel (0, 1) is not finite");
+    CHECK(test::errorOf([&] { BitmapTexture(exr, 0, kNoOffset, kUnitScale); }) == exr + ": pixel (0, 1) is not finite");
 
     const std::vector<float> infinite = {0, std::numeric_limits<float>::infinity(), 0};
     const std::string infExr = writeImage(dir.path / "inf.exr", 1, 1, 3, OIIO::TypeDesc::FLOAT, infinite);
-    CHECK(errorOf([&] { BitmapTexture(infExr, 0, kNoOffset, kUnitScale); }) == infExr + ": pixel (0, 0) is not finite");
+    CHECK(test::errorOf([&] { BitmapTexture(infExr, 0, kNoOffset, kUnitScale); }) == infExr + ": pixel (0, 0) is not finite");
 }

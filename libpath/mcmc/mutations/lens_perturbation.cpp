@@ -15,26 +15,16 @@ bool LensPerturbation::suitable(const MarkovPath& x) const {
 
 void LensPerturbation::propose(const MarkovPath& x, Pcg32& rng, Proposal& out) const {
     out = Proposal{};
-    const int k = x.edges();
     const int j = firstNonSpecularFromEye(x.v);
-    // 1. The raster offset (ALGORITHMS.md 2.2 step 2); off the sensor window is off the image.
-    const auto cam = perturbCamera(scene_.camera, sensor_, radius_, x.raster, rng);
-    if (!cam) {
-        out.failed = RejectCause::LeftImage;
-        return;
-    }
-    // 2. The camera ray through the chain to x_j' (step 3).
-    out.y = x;
+    // 1.-2. The raster offset and the camera ray through the chain to x_j' (ALGORITHMS.md 2.2 steps 2-3).
     double sampled = 1;
-    if (const auto why = followChain(scene_, x.v, out.y.v, k, j, cam->ray, cam->pdfDir, Transport::Radiance, sampled)) {
-        out.failed = why;
-        return;
-    }
+    const auto pOffset = perturbLensChain(scene_, sensor_, radius_, x, j, rng, out, sampled);
+    if (!pOffset) return;
     // 3. Connect x_j' to x_{j-1} (step 4): evaluatePath checks visibility and recomputes f and the raster.
     if (!evaluateProposal(scene_, out)) return;
     // 4. Q in both directions from the two paths; p_offset(r) is the same both ways.
-    setTransitionDensities(out, x, sampled, cam->pOffset * eyeChainDensity(scene_, sensor_, out.y.v, j),
-                           cam->pOffset * eyeChainDensity(scene_, sensor_, x.v, j));
+    setTransitionDensities(out, x, sampled, *pOffset * eyeChainDensity(scene_, sensor_, out.y.v, j),
+                           *pOffset * eyeChainDensity(scene_, sensor_, x.v, j));
 }
 
 } // namespace lt

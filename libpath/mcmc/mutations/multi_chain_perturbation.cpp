@@ -43,21 +43,11 @@ double MultiChainPerturbation::density(const MarkovPath& path, double pOffset,
 
 void MultiChainPerturbation::propose(const MarkovPath& x, Pcg32& rng, Proposal& out) const {
     out = Proposal{};
-    const int k = x.edges();
     const auto d = stops(x);
     // 1. The lens perturbation through the first chain (ALGORITHMS.md 2.4 step 1).
-    const auto cam = perturbCamera(scene_.camera, sensor_, radius_, x.raster, rng);
-    if (!cam) {
-        out.failed = RejectCause::LeftImage;
-        return;
-    }
-    out.y = x;
     double sampled = 1;
-    if (const auto why =
-            followChain(scene_, x.v, out.y.v, k, d[0], cam->ray, cam->pdfDir, Transport::Radiance, sampled)) {
-        out.failed = why;
-        return;
-    }
+    const auto pOffset = perturbLensChain(scene_, sensor_, radius_, x, d[0], rng, out, sampled);
+    if (!pOffset) return;
     // 2. At each further non-specular vertex, the old direction turned, through the next chain (step 2).
     std::vector<double> thetas;
     for (size_t s = 0; s + 1 < d.size(); ++s) {
@@ -75,7 +65,7 @@ void MultiChainPerturbation::propose(const MarkovPath& x, Pcg32& rng, Proposal& 
     // 3. Connect x_c' to x_{c-1}: evaluatePath.
     if (!evaluateProposal(scene_, out)) return;
     // 4. Q both ways: the same offsets, each path's own Jacobians (step 4).
-    setTransitionDensities(out, x, sampled, density(out.y, cam->pOffset, thetas), density(x, cam->pOffset, thetas));
+    setTransitionDensities(out, x, sampled, density(out.y, *pOffset, thetas), density(x, *pOffset, thetas));
 }
 
 } // namespace lt

@@ -147,4 +147,21 @@ int firstNonSpecularFromEye(const std::vector<PathVertex>& v) {
     return j;
 }
 
+std::optional<double> perturbLensChain(const Scene& scene, const SensorWindow& sensor, const ReciprocalKernel& radius,
+                                       const MarkovPath& x, int to, Pcg32& rng, Proposal& out, double& sampled) {
+    // Off the sensor window is off the image (ALGORITHMS.md 2.2 step 2).
+    const auto cam = perturbCamera(scene.camera, sensor, radius, x.raster, rng);
+    if (!cam) {
+        out.failed = RejectCause::LeftImage;
+        return std::nullopt;
+    }
+    out.y = x;
+    if (const auto why =
+            followChain(scene, x.v, out.y.v, x.edges(), to, cam->ray, cam->pdfDir, Transport::Radiance, sampled)) {
+        out.failed = why;
+        return std::nullopt;
+    }
+    return cam->pOffset;
+}
+
 } // namespace lt

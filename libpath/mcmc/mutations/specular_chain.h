@@ -16,6 +16,7 @@
 #include "math/constants.h"
 #include "math/rng.h"
 #include "mcmc/markov_path.h"
+#include "mcmc/mutation.h"
 #include "mcmc/sensor_window.h"
 
 namespace lt {
@@ -79,6 +80,12 @@ struct CameraPerturbation {
                                                               const SensorWindow& sensor,
                                                               const ReciprocalKernel& radius, const Vec2& raster,
                                                               Pcg32& rng);
+// Steps 2 and 3 of the lens perturbation, also the multi-chain perturbation's start: perturb the camera
+// ray, then follow x's eye-side specular chain to vertex `to` into out.y (a copy of x), multiplying
+// `sampled`. Returns the raster offset's density, or nothing with out.failed set.
+[[nodiscard]] std::optional<double> perturbLensChain(const Scene& scene, const SensorWindow& sensor,
+                                                     const ReciprocalKernel& radius, const MarkovPath& x, int to,
+                                                     Pcg32& rng, Proposal& out, double& sampled);
 // The density of the eye end's vertices k - 1 .. j given the raster position (the chain behind the
 // camera, lobes fixed): the sensor window's area (raster to the uniform density of densityFromEye) times
 // the fixed-lobe densities from the eye.

@@ -42,22 +42,18 @@ nlohmann::json toJson(const lt::ReconstructStatistics& s) {
 // The STAT table "reconstruct" (formats/SPEC.md): numbers only, so the norm is its exponent (1 or 2)
 // and the solver a code (1 Ceres sparse normal Cholesky, 2 Ceres CGNR, 3 Eigen CG); INFO has them as names.
 lt::file::StatTable toStatTable(const lt::ReconstructStatistics& s) {
-    return {"reconstruct",
-            {"value"},
-            {"norm", "alpha", "irls_iterations", "solves", "iterations", "linear_iterations", "initial_cost",
-             "final_cost", "seconds", "solver"},
-            {{s.norm == "l1" ? 1.0 : 2.0},
-             {s.alpha},
-             {double(s.irlsIterations)},
-             {double(s.solves)},
-             {double(s.solverIterations)},
-             {double(s.linearIterations)},
-             {s.initialCost},
-             {s.finalCost},
-             {s.seconds},
-             {s.solverUsed == lt::PoissonSolver::Cgnr      ? 2.0
-              : s.solverUsed == lt::PoissonSolver::EigenCg ? 3.0
-                                                           : 1.0}}};
+    return lt::tool::valueTable("reconstruct", {{"norm", s.norm == "l1" ? 1.0 : 2.0},
+                                                {"alpha", s.alpha},
+                                                {"irls_iterations", double(s.irlsIterations)},
+                                                {"solves", double(s.solves)},
+                                                {"iterations", double(s.solverIterations)},
+                                                {"linear_iterations", double(s.linearIterations)},
+                                                {"initial_cost", s.initialCost},
+                                                {"final_cost", s.finalCost},
+                                                {"seconds", s.seconds},
+                                                {"solver", s.solverUsed == lt::PoissonSolver::Cgnr      ? 2.0
+                                                           : s.solverUsed == lt::PoissonSolver::EigenCg ? 3.0
+                                                                                                        : 1.0}});
 }
 
 } // namespace

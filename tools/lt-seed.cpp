@@ -36,16 +36,19 @@ int main(int argc, char** argv) {
         ->check(CLI::PositiveNumber);
     app.add_option("--time", timeLimit, "render for this many seconds (whole passes over the image)")
         ->check(CLI::PositiveNumber);
-    app.add_option("--max-depth", maxDepth, "longest path in edges, Mitsuba's meaning: 1 = emitters seen directly, "
-                                            "-1 = unbounded (default: the scene's integrator maxDepth)");
+    app.add_option("--max-depth", maxDepth,
+                   "longest path in edges, Mitsuba's meaning: 1 = emitters seen directly, "
+                   "-1 = unbounded (default: the scene's integrator maxDepth)");
     app.add_option("--rr-depth", rrDepth, "edges after which Russian roulette starts (default: the scene's rrDepth)")
         ->check(CLI::PositiveNumber);
-    app.add_option("--mis", mis, "MIS heuristic: power (default) or balance")->check(CLI::IsMember({"power", "balance"}));
+    app.add_option("--mis", mis, "MIS heuristic: power (default) or balance")
+        ->check(CLI::IsMember({"power", "balance"}));
     app.add_option("--threads", threads, "worker threads (default: all cores)")->check(CLI::NonNegativeNumber);
     app.add_option("--seed", seed, "random seed (default 0)");
     app.add_option("--resolution", resolution, "film size WxH, overriding the scene's (keeps the horizontal fov)");
     app.add_option("--paths", pathsOut, "also write candidate seed paths (.ltp), or - for stdout");
-    app.add_option("--max-paths", maxPaths, "seed paths to keep: independent draws in proportion to weight (default 100000)")
+    app.add_option("--max-paths", maxPaths,
+                   "seed paths to keep: independent draws in proportion to weight (default 100000)")
         ->check(CLI::PositiveNumber);
     app.add_option("--snapshots", snapshotTimes,
                    "write progress snapshots (SNAP chunks, for lt-error): 'doubling' (1, 2, 4 ... s), "
@@ -60,7 +63,8 @@ int main(int argc, char** argv) {
     return lt::tool::run(app, argc, argv, [&] {
         if (out == "-" && pathsOut == "-") throw lt::Error("only one of -o and --paths can be stdout");
         if (pathsOut.empty() && app.count("--max-paths")) throw lt::Error("--max-paths needs --paths");
-        if (method == "pt" && !pathsOut.empty()) throw lt::Error("--paths needs --method bdpt (seed paths are BDPT strategies)");
+        if (method == "pt" && !pathsOut.empty())
+            throw lt::Error("--paths needs --method bdpt (seed paths are BDPT strategies)");
         auto scene = lt::tool::loadSceneWithOptions("lt-seed", scenePath, defines, resolution, quiet);
 
         lt::RenderSettings rs;
@@ -82,12 +86,18 @@ int main(int argc, char** argv) {
 
         // Open the outputs before the work, so a bad path fails now and not after an hour of rendering.
         nlohmann::json params = {{"snapshots", snapshotTimes.empty() ? snapshotSamples : snapshotTimes},
-                                 {"method", method},       {"spp", rs.spp},        {"time_limit", timeLimit},
-                                 {"max_depth", rs.bdpt.maxDepth}, {"rr_depth", rs.bdpt.rrDepth}, {"mis", mis},
-                                 {"seed", seed},           {"tile", tile},
+                                 {"method", method},
+                                 {"spp", rs.spp},
+                                 {"time_limit", timeLimit},
+                                 {"max_depth", rs.bdpt.maxDepth},
+                                 {"rr_depth", rs.bdpt.rrDepth},
+                                 {"mis", mis},
+                                 {"seed", seed},
+                                 {"tile", tile},
                                  {"resolution", {scene->camera.film().width, scene->camera.film().height}},
                                  {"filter", scene->camera.film().filter.name()}};
-        lt::file::Writer writer(out, lt::file::FileKind::Buffer, lt::tool::makeInfo("lt-seed", argc, argv, params, scene.get()));
+        lt::file::Writer writer(out, lt::file::FileKind::Buffer,
+                                lt::tool::makeInfo("lt-seed", argc, argv, params, scene.get()));
         std::optional<lt::file::Writer> pathWriter;
         std::optional<lt::SeedReservoir> reservoir;
         if (!pathsOut.empty()) {
@@ -136,41 +146,38 @@ int main(int argc, char** argv) {
         const double samplesPerPixel = double(stats.samples) / pixels;
         writer.writeBuffer(film.toBuffer());
         // How the run went: INFO is written before the work, so times and counts go in a STAT table.
-        const lt::file::StatTable run{"run",
-                                      {"value"},
-                                      {"samples", "spp", "passes", "wall_seconds", "cpu_seconds", "rays",
-                                       "nonfinite_dropped", "interrupted", "snapshots", "snapshot_seconds"},
-                                      {{double(stats.samples)},
-                                       {samplesPerPixel},
-                                       {double(stats.passes)},
-                                       {stats.wallSeconds},
-                                       {stats.cpuSeconds},
-                                       {double(stats.rays)},
-                                       {double(stats.health.nonFinite)},
-                                       {stats.interrupted ? 1.0 : 0.0},
-                                       {double(stats.snapshots)},
-                                       {stats.snapshotSeconds}}};
-        writer.writeStats(run);
+        writer.writeStats(lt::tool::valueTable("run", {{"samples", double(stats.samples)},
+                                                       {"spp", samplesPerPixel},
+                                                       {"passes", double(stats.passes)},
+                                                       {"wall_seconds", stats.wallSeconds},
+                                                       {"cpu_seconds", stats.cpuSeconds},
+                                                       {"rays", double(stats.rays)},
+                                                       {"nonfinite_dropped", double(stats.health.nonFinite)},
+                                                       {"interrupted", stats.interrupted ? 1.0 : 0.0},
+                                                       {"snapshots", double(stats.snapshots)},
+                                                       {"snapshot_seconds", stats.snapshotSeconds}}));
         writer.finish();
 
         if (pathWriter) {
             const double b = reservoir->normalization(stats.samples, pixels);
             const auto draws = reservoir->draws();
-            lt::file::StatTable normTable{"normalization", {"value"}, {"b", "samples", "candidates", "kept"},
-                                          {{b}, {double(stats.samples)}, {double(reservoir->candidates())},
-                                           {double(draws.size())}}};
             for (size_t i = 0; i < draws.size(); i += 4096)
                 pathWriter->writePaths(std::span(draws).subspan(i, std::min<size_t>(4096, draws.size() - i)));
-            pathWriter->writeStats(normTable);
+            pathWriter->writeStats(
+                lt::tool::valueTable("normalization", {{"b", b},
+                                                       {"samples", double(stats.samples)},
+                                                       {"candidates", double(reservoir->candidates())},
+                                                       {"kept", double(draws.size())}}));
             pathWriter->finish();
-            if (!quiet) std::cerr << "lt-seed: b = " << b << " (" << reservoir->candidates() << " candidates, " << draws.size()
-                                  << " kept) -> " << pathWriter->name() << '\n';
+            if (!quiet)
+                std::cerr << "lt-seed: b = " << b << " (" << reservoir->candidates() << " candidates, " << draws.size()
+                          << " kept) -> " << pathWriter->name() << '\n';
         }
         if (!quiet) {
             std::cerr << "lt-seed: " << (stats.interrupted ? "interrupted after " : "") << samplesPerPixel << " spp in "
-                      << formatSeconds(stats.wallSeconds) << " (" << std::setprecision(3) << double(stats.samples) / stats.wallSeconds / 1e3
-                      << "k samples/s, " << double(stats.rays) / stats.wallSeconds / 1e6 << "M rays/s) -> "
-                      << writer.name();
+                      << formatSeconds(stats.wallSeconds) << " (" << std::setprecision(3)
+                      << double(stats.samples) / stats.wallSeconds / 1e3 << "k samples/s, "
+                      << double(stats.rays) / stats.wallSeconds / 1e6 << "M rays/s) -> " << writer.name();
             if (stats.health.nonFinite) std::cerr << " (" << stats.health.nonFinite << " non-finite samples dropped)";
             std::cerr << '\n';
         }

@@ -5,6 +5,8 @@
 
 #include <ctime>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "formats/ltfile.h"
 #include "math/error.h"
@@ -26,6 +28,17 @@ inline nlohmann::json makeInfo(const std::string& producer, int argc, char** arg
     std::strftime(date, sizeof date, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
     info["times"] = {{"start", date}};
     return info;
+}
+
+// A STAT table of named figures in one column "value" (formats/SPEC.md: the "run", "normalization" and
+// "reconstruct" tables), rows in the given order.
+inline file::StatTable valueTable(std::string name, const std::vector<std::pair<std::string, double>>& rows) {
+    file::StatTable t{std::move(name), {"value"}, {}, {}};
+    for (const auto& [row, value] : rows) {
+        t.rows.push_back(row);
+        t.values.push_back({value});
+    }
+    return t;
 }
 
 // -D NAME=VALUE scene parameters.

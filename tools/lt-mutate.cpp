@@ -191,6 +191,17 @@ int main(int argc, char** argv) {
         }
         lt::file::Writer writer(out, lt::file::FileKind::Buffer,
                                 lt::tool::makeInfo("lt-mutate", argc, argv, params, scene.get()));
+        // Both outputs are opened before any work, so a bad path fails now, not after the seeding.
+        std::optional<lt::file::Writer> dumpWriter;
+        lt::PathDump dump;
+        if (!dumpPaths.empty()) {
+            nlohmann::json dparams = params;
+            dparams["dump_every"] = dumpEvery;
+            dumpWriter.emplace(dumpPaths, lt::file::FileKind::Paths,
+                               lt::tool::makeInfo("lt-mutate", argc, argv, dparams, scene.get()));
+            dump.every = dumpEvery;
+            dump.write = [&](std::vector<lt::file::PathRecord>& records) { dumpWriter->writePaths(records); };
+        }
 
         lt::tool::installInterruptHandler();
         lt::tool::Progress progress("lt-mutate", quiet);
@@ -230,16 +241,6 @@ int main(int argc, char** argv) {
             std::vector<std::unique_ptr<lt::Mutation>> owned;
             std::vector<lt::WeightedMutation> mix;
             lt::makeMutations(choice, *scene, maxEdges, owned, mix);
-            std::optional<lt::file::Writer> dumpWriter;
-            lt::PathDump dump;
-            if (!dumpPaths.empty()) {
-                nlohmann::json dparams = params;
-                dparams["dump_every"] = dumpEvery;
-                dumpWriter.emplace(dumpPaths, lt::file::FileKind::Paths,
-                                   lt::tool::makeInfo("lt-mutate", argc, argv, dparams, scene.get()));
-                dump.every = dumpEvery;
-                dump.write = [&](std::vector<lt::file::PathRecord>& records) { dumpWriter->writePaths(records); };
-            }
             stats = lt::runPathSpaceChains(*scene, seeds, mix, rs, film, onProgress, &lt::tool::stopRequested(),
                                            onSnapshot, dump);
             if (dumpWriter) dumpWriter->finish();
@@ -252,34 +253,22 @@ int main(int argc, char** argv) {
                       << ", longer than --time; the chains ran one round (lower --startup-samples)\n";
 
         writer.writeBuffer(film.toBuffer());
-        const lt::file::StatTable runTable{"run",
-                                           {"value"},
-                                           {"mutations", "mutations_per_pixel", "chains", "wall_seconds", "cpu_seconds",
-                                            "startup_seconds", "rays", "nonfinite_dropped", "interrupted", "snapshots",
-                                            "snapshot_seconds"},
-                                           {{double(stats.mutations)},
-                                            {double(stats.mutations) / pixels},
-                                            {double(chains)},
-                                            {stats.wallSeconds},
-                                            {stats.cpuSeconds},
-                                            {stats.startupSeconds},
-                                            {double(stats.rays)},
-                                            {double(stats.health.nonFinite)},
-                                            {stats.interrupted ? 1.0 : 0.0},
-                                            {double(stats.snapshots)},
-                                            {stats.snapshotSeconds}}};
-        writer.writeStats(runTable);
-        lt::file::StatTable norm{
-            "normalization", {"value"}, {"b", "startup_samples"}, {{stats.b}, {double(stats.startupSamples)}}};
-        if (pathSpace) {
-            norm.rows.push_back("unusable_seeds");
-            norm.values.push_back({double(stats.unusableSeeds)});
-        }
-        if (seedB >= 0) {
-            norm.rows.push_back("b_seed_file");
-            norm.values.push_back({seedB});
-        }
-        writer.writeStats(norm);
+        writer.writeStats(lt::tool::valueTable("run", {{"mutations", double(stats.mutations)},
+                                                       {"mutations_per_pixel", double(stats.mutations) / pixels},
+                                                       {"chains", double(chains)},
+                                                       {"wall_seconds", stats.wallSeconds},
+                                                       {"cpu_seconds", stats.cpuSeconds},
+                                                       {"startup_seconds", stats.startupSeconds},
+                                                       {"rays", double(stats.rays)},
+                                                       {"nonfinite_dropped", double(stats.health.nonFinite)},
+                                                       {"interrupted", stats.interrupted ? 1.0 : 0.0},
+                                                       {"snapshots", double(stats.snapshots)},
+                                                       {"snapshot_seconds", stats.snapshotSeconds}}));
+        std::vector<std::pair<std::string, double>> norm = {{"b", stats.b},
+                                                            {"startup_samples", double(stats.startupSamples)}};
+        if (pathSpace) norm.emplace_back("unusable_seeds", double(stats.unusableSeeds));
+        if (seedB >= 0) norm.emplace_back("b_seed_file", seedB);
+        writer.writeStats(lt::tool::valueTable("normalization", norm));
         writer.writeStats(stats.strategies.table());
         if (!pathSpace && ps.space == lt::PrimarySpace::Multiplexed) {
             lt::file::StatTable lengths{"path_lengths", {"b", "chains"}, {}, {}};

@@ -72,4 +72,7 @@ check "--dump-paths: exit 0, every 100th state of 4 chains" \
     '[ $code -eq 0 ] && "$bin/lt-inspect" "$tmp/dump.ltp" | grep -q "paths *40,"'
 out=$("$bin/lt-mutate" "$scene" --space primary --time 1 --dump-paths "$tmp/x.ltp" --dump-every 10 -o "$tmp/x.lts" 2>&1); code=$?
 check "--dump-paths with a primary space: refused" '[ $code -ne 0 ] && echo "$out" | grep -q "needs --space path"'
+out=$("$bin/lt-mutate" "$scene" --mutations 100 --dump-paths "$tmp/no/such/dir/d.ltp" --dump-every 10 -o "$tmp/y.lts" 2>&1); code=$?
+check "unwritable --dump-paths: one error line naming it, no output" \
+    '[ $code -ne 0 ] && echo "$out" | grep -q "no/such/dir" && [ ! -e "$tmp/y.lts" ] && ! ls "$tmp" | grep -q partial'
 exit $fail

@@ -12,6 +12,7 @@
 #include "mcmc/mutations/bidirectional_mutation.h"
 #include "mcmc/mutations/caustic_perturbation.h"
 #include "mcmc/mutations/lens_perturbation.h"
+#include "mcmc/mutations/lens_subpath_mutation.h"
 #include "mcmc/mutations/multi_chain_perturbation.h"
 #include "mcmc/path_space_chains.h"
 #include "mcmc/primary_sample_vector.h"
@@ -474,21 +475,24 @@ TEST_CASE("a seed path's f / p recomputed from scratch equals the BDPT contribut
 
 namespace {
 
-// The perturbation of a name, for the scene.
-std::unique_ptr<Mutation> makePerturbation(const std::string& name, const Scene& scene) {
+// The perturbation (or lens-subpath mutation) of a name, for the scene and paths of up to maxEdges.
+std::unique_ptr<Mutation> makePerturbation(const std::string& name, const Scene& scene, int maxEdges) {
     if (name == "lens") return std::make_unique<LensPerturbation>(scene);
+    if (name == "lens-subpath") return std::make_unique<LensSubpathMutation>(scene, maxEdges);
     if (name == "caustic") return std::make_unique<CausticPerturbation>(scene);
     return std::make_unique<MultiChainPerturbation>(scene);
 }
 
 } // namespace
 
-TEST_CASE("lens, caustic and multi-chain perturbations: the density sampled is the T(x -> y) computed", "[mcmc]") {
+TEST_CASE("lens, caustic, multi-chain perturbations, lens subpath: the density sampled is the T(x -> y) computed",
+          "[mcmc]") {
     // ALGORITHMS.md 2.6 and 10.7: from seed paths of each perturbation's type, propose; the density multiplied
     // while tracing (camera raster or turned direction, then the specular chain with the lobes fixed) must
     // be the one recomputed from y alone, and both Q finite. Detailed balance: the reverse move's parameters
     // rebuilt from the two paths (raster offset |u - u'|, angle between the old and new directions, the
-    // caustic ranges taken at y) give T(y -> x) = reverseQ f*(x).
+    // caustic ranges taken at y) give T(y -> x) = reverseQ f*(x). The lens-subpath mutation samples its
+    // lobes and where it stops: its density includes those choices.
     auto scene = loadScene(test::shippedScene("cornell-spheres"));
     scene->camera = scene->camera.withResolution(32, 32);
     BdptSettings b;
@@ -502,8 +506,8 @@ TEST_CASE("lens, caustic and multi-chain perturbations: the density sampled is t
         }
     }
     const SensorWindow sensor(scene->camera);
-    for (const std::string name : {"lens", "caustic", "multi-chain"}) {
-        const auto mutation = makePerturbation(name, *scene);
+    for (const std::string name : {"lens", "caustic", "multi-chain", "lens-subpath"}) {
+        const auto mutation = makePerturbation(name, *scene, b.maxDepth);
         Pcg32 rng(7, 7);
         int suitable = 0, checked = 0, failed = 0, off = 0, balanceOff = 0, specular = 0;
         double worst = 0, acceptance = 0;
@@ -544,7 +548,10 @@ TEST_CASE("lens, caustic and multi-chain perturbations: the density sampled is t
                 } else {
                     const double r = length(p.y.raster - x.raster);
                     const double pOffset = rasterRadii(scene->camera).planeDensity(r);
-                    if (name == "lens") {
+                    if (name == "lens-subpath") {
+                        reverseT = static_cast<const LensSubpathMutation&>(*mutation).subpathDensity(
+                            x.v, firstNonSpecularFromEye(x.v));
+                    } else if (name == "lens") {
                         reverseT = pOffset * eyeChainDensity(*scene, sensor, x.v, firstNonSpecularFromEye(x.v));
                     } else {
                         // Each turned direction: the angle between the old and the new one at the stop. Turns of
@@ -579,7 +586,8 @@ TEST_CASE("lens, caustic and multi-chain perturbations: the density sampled is t
                   << " densities off by more than 1e-3, the worst by " << worst << "; " << balanceOff
                   << " reverse densities off by more than 1 %; mean acceptance " << acceptance / std::max(1, checked));
         CHECK(checked > (name == "multi-chain" ? 100 : 1000));
-        if (name != "lens") CHECK(specular > checked); // every proposal goes through a specular chain
+        if (name == "caustic" || name == "multi-chain") CHECK(specular > checked); // through a specular chain
+        if (name == "lens-subpath") CHECK(specular > checked / 20); // lens subpaths through the spheres
         // Tolerances as in the bidirectional test (offset ray origins and float hit points); a wrong measure,
         // transport mode or lobe factor would be off on most proposals.
         CHECK(off < checked / 100 + 1);
@@ -590,9 +598,9 @@ TEST_CASE("lens, caustic and multi-chain perturbations: the density sampled is t
 
 TEST_CASE("each perturbation mixed with the bidirectional mutation converges to BDPT", "[mcmc][slow]") {
     // ALGORITHMS.md 2.6: the lens perturbation on the diffuse cornell-box and on the spheres, the caustic and
-    // multi-chain perturbations where their paths occur (glass and mirror spheres). Each must also have
-    // moved the chains.
-    std::vector<MutationStatistics> stats(4);
+    // multi-chain perturbations where their paths occur (glass and mirror spheres), the lens-subpath
+    // mutation through the spheres seen by the camera. Each must also have moved the chains.
+    std::vector<MutationStatistics> stats(5);
     {
         auto scene = loadScene(test::sharedScene("cornell-box"));
         checkAgainstBdpt(*scene, 4, 6, {{"bidirectional,lens", pathRuns(*scene, "bidirectional,lens", 4, &stats[0])}});
@@ -601,7 +609,8 @@ TEST_CASE("each perturbation mixed with the bidirectional mutation converges to 
     checkAgainstBdpt(*scene, 5, 6,
                      {{"bidirectional,lens", pathRuns(*scene, "bidirectional,lens", 5, &stats[1])},
                       {"bidirectional,caustic", pathRuns(*scene, "bidirectional,caustic", 5, &stats[2])},
-                      {"bidirectional,multi-chain", pathRuns(*scene, "bidirectional,multi-chain", 5, &stats[3])}});
+                      {"bidirectional,multi-chain", pathRuns(*scene, "bidirectional,multi-chain", 5, &stats[3])},
+                      {"bidirectional,lens-subpath", pathRuns(*scene, "bidirectional,lens-subpath", 5, &stats[4])}});
     for (const auto& st : stats) {
         INFO(st.text());
         REQUIRE(st.strategies().size() == 2);
@@ -624,6 +633,7 @@ TEST_CASE("strategy selection: auto leaves out caustic and multi-chain without s
     const auto w = chooseStrategies("bidirectional,lens:2,caustic", glass);
     CHECK(w.chosen[1].weight == 2);
     CHECK(w.chosen[2].weight == 1);
-    CHECK_THROWS_WITH(chooseStrategies("bidirectional,lens-subpath", glass), Catch::Contains("not built yet"));
+    CHECK(chooseStrategies("bidirectional,lens-subpath", glass).chosen[1].name == "lens-subpath");
+    CHECK_THROWS_WITH(chooseStrategies("bidirectional,manifold", glass), Catch::Contains("not built yet"));
     CHECK_THROWS_WITH(chooseStrategies("lens,caustic", glass), Catch::Contains("bidirectional"));
 }

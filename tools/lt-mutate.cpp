@@ -49,7 +49,8 @@ int main(int argc, char** argv) {
     app.add_option("--strategies", strategies,
                    "path-space mutations: auto (bidirectional, lens, and caustic and multi-chain where the "
                    "scene has specular chains) or NAME[:WEIGHT],... of bidirectional (required), lens, caustic, "
-                   "multi-chain; weights default to 1; primary spaces have their own two: large step and small step");
+                   "multi-chain, lens-subpath (Veach's fresh lens subpath through a random pixel; not in auto); "
+                   "weights default to 1; primary spaces have their own two: large step and small step");
     app.add_option("--mutations", mutations, "total mutations over all chains")->check(CLI::PositiveNumber);
     app.add_option("--mutations-per-pixel", mutationsPerPixel, "total mutations as a multiple of the pixel count")
         ->check(CLI::PositiveNumber);

@@ -142,8 +142,7 @@ double densityFromEye(const Scene& scene, const SensorWindow& sensor, const std:
         const auto imp = deltaImportance(v, i + 1);
         const auto rad =
             worldBsdf(from).deltaEval(from.directionTo(v[i + 2]), from.directionTo(v[i]), Transport::Radiance);
-        if (!imp || !rad || !(rad->weight.luminance() > 0)) return 0;
-        return (imp->weight * imp->pdf).luminance() / rad->weight.luminance() * geometryTerm(from, v[i]);
+        return imp && rad ? eyeSideDeltaDensity(*imp, *rad, geometryTerm(from, v[i])) : 0.0;
     }
     return from.pdf(scene, &v[i + 2], v[i]);
 }

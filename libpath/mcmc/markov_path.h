@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "bsdf/bsdf.h"
 #include "formats/records.h"
 #include "mcmc/image_contribution.h"
 #include "mcmc/mutation_statistics.h"
@@ -64,5 +65,14 @@ struct MarkovPath {
 [[nodiscard]] double densityFromLight(const Scene& scene, const std::vector<PathVertex>& v, size_t i);
 [[nodiscard]] double densityFromEye(const Scene& scene, const SensorWindow& sensor, const std::vector<PathVertex>& v,
                                     size_t i);
+
+// The stripped density of a vertex sampled from the eye side through a delta lobe, (R_imp / weight_rad) G
+// (header comment): `imp` is the lobe for light-to-eye importance transport (weight x probability = R_imp),
+// `rad` the one sampled in radiance transport (its weight includes 1 / its probability, so the density
+// includes the lobe choice), g the geometry term of the new edge.
+[[nodiscard]] inline double eyeSideDeltaDensity(const BsdfSample& imp, const BsdfSample& rad, double g) {
+    const double weight = rad.weight.luminance();
+    return weight > 0 ? (imp.weight * imp.pdf).luminance() / weight * g : 0.0;
+}
 
 } // namespace lt

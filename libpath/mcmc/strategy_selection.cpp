@@ -8,6 +8,7 @@
 #include "mcmc/mutations/bidirectional_mutation.h"
 #include "mcmc/mutations/caustic_perturbation.h"
 #include "mcmc/mutations/lens_perturbation.h"
+#include "mcmc/mutations/lens_subpath_mutation.h"
 #include "mcmc/mutations/multi_chain_perturbation.h"
 
 namespace lt {
@@ -15,12 +16,11 @@ namespace lt {
 namespace {
 
 // The path-space mutations lt has (default weight 1 each).
-const char* const Available[] = {"bidirectional", "lens", "caustic", "multi-chain"};
-const char* const AvailableList = "bidirectional, lens, caustic, multi-chain";
+const char* const Available[] = {"bidirectional", "lens", "caustic", "multi-chain", "lens-subpath"};
+const char* const AvailableList = "bidirectional, lens, caustic, multi-chain, lens-subpath";
 
 // Mutations of the papers that lt does not have yet: named so that asking for one is a clear error.
-// Veach's lens-subpath mutation is optional (ALGORITHMS.md 2.5): Mitsuba dropped it for want of a gain.
-const char* const Planned[] = {"lens-subpath", "manifold", "half-vector", "portal"};
+const char* const Planned[] = {"manifold", "half-vector", "portal"};
 
 } // namespace
 
@@ -36,7 +36,9 @@ StrategyChoice chooseStrategies(const std::string& spec, const SceneFeatures& fe
         } else {
             choice.leftOut.push_back("caustic, multi-chain perturbations: " + features.specularReason);
         }
-        choice.leftOut.push_back("lens-subpath mutation: not built (optional; Mitsuba dropped it for want of a gain)");
+        choice.leftOut.push_back(
+            "lens-subpath mutation: optional (ALGORITHMS.md 2.5; Mitsuba dropped it for want of a gain); "
+            "ask for it with --strategies");
         return choice;
     }
     std::istringstream in(spec);
@@ -75,6 +77,7 @@ void makeMutations(const StrategyChoice& choice, const Scene& scene, int maxEdge
         if (e.name == "lens") owned.push_back(std::make_unique<LensPerturbation>(scene));
         if (e.name == "caustic") owned.push_back(std::make_unique<CausticPerturbation>(scene));
         if (e.name == "multi-chain") owned.push_back(std::make_unique<MultiChainPerturbation>(scene));
+        if (e.name == "lens-subpath") owned.push_back(std::make_unique<LensSubpathMutation>(scene, maxEdges));
         mix.push_back({owned.back().get(), e.weight});
     }
 }

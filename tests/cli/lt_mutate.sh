@@ -40,7 +40,7 @@ check "Ctrl-C: a complete file with the work done" '[ "$(tail -c 16 "$tmp/int.lt
 
 out=$("$bin/lt-mutate" "$scene" -o "$tmp/x.lts" 2>&1); code=$?
 check "no length given: one error line" '[ $code -ne 0 ] && [ "$(echo "$out" | wc -l)" -eq 1 ]'
-out=$("$bin/lt-mutate" "$scene" --time 1 --strategies bidirectional,lens-subpath -o "$tmp/x.lts" 2>&1); code=$?
+out=$("$bin/lt-mutate" "$scene" --time 1 --strategies bidirectional,manifold -o "$tmp/x.lts" 2>&1); code=$?
 check "a strategy not built yet is refused by name" '[ $code -ne 0 ] && echo "$out" | grep -q "not built yet"'
 out=$("$bin/lt-mutate" "$src/tests/cli/nope.xml" --time 1 -o "$tmp/x.lts" 2>&1); code=$?
 check "missing scene: one line naming it" '[ $code -ne 0 ] && [ "$(echo "$out" | wc -l)" -eq 1 ] && echo "$out" | grep -q nope.xml'
@@ -56,16 +56,20 @@ check "no output left behind by failed runs" '[ ! -e "$tmp/x.lts" ]'
 
 # Veach's perturbations: an explicit weighted mix runs and the table lists each; auto on a scene without
 # specular surfaces leaves out the caustic and multi-chain perturbations and says why.
-"$bin/lt-mutate" "$src/scenes/cornell-spheres/scene.xml" --resolution 16x16 --strategies bidirectional,lens:2,caustic \
-    --mutations 20000 --chains 8 --startup-samples 2000 -o "$tmp/mix.lts" 2> "$tmp/mix-err"; code=$?
-check "bidirectional,lens:2,caustic: exit 0" '[ $code -eq 0 ]'
-check "bidirectional,lens:2,caustic: the table lists all three" \
-    'grep -q "^bidirectional" "$tmp/mix-err" && grep -q "^lens" "$tmp/mix-err" && grep -q "^caustic" "$tmp/mix-err"'
+"$bin/lt-mutate" "$src/scenes/cornell-spheres/scene.xml" --resolution 16x16 \
+    --strategies bidirectional,lens:2,caustic,lens-subpath --mutations 20000 --chains 8 --startup-samples 2000 \
+    -o "$tmp/mix.lts" 2> "$tmp/mix-err"; code=$?
+check "bidirectional,lens:2,caustic,lens-subpath: exit 0" '[ $code -eq 0 ]'
+check "bidirectional,lens:2,caustic,lens-subpath: the table lists all four" \
+    'grep -q "^bidirectional" "$tmp/mix-err" && grep -q "^lens " "$tmp/mix-err" && grep -q "^caustic" "$tmp/mix-err" &&
+     grep -q "^lens-subpath" "$tmp/mix-err"'
 "$bin/lt-mutate" "$scene" --strategies auto --mutations 2000 --chains 4 --startup-samples 500 -o "$tmp/auto.lts" \
     2> "$tmp/auto-err"
 check "auto without specular surfaces: caustic and multi-chain left out, with the reason" \
     'grep -q "left out: caustic, multi-chain perturbations: no delta" "$tmp/auto-err"'
-check "auto without specular surfaces: the lens perturbation runs" 'grep -q "^lens" "$tmp/auto-err"'
+check "auto without specular surfaces: the lens perturbation runs" 'grep -q "^lens " "$tmp/auto-err"'
+check "auto leaves out the lens-subpath mutation and says how to ask for it" \
+    'grep -q "left out: lens-subpath mutation: optional.*--strategies" "$tmp/auto-err"'
 "$bin/lt-mutate" "$scene" --mutations 4000 --chains 4 --startup-samples 1000 -o "$tmp/dump.lts" \
     --dump-paths "$tmp/dump.ltp" --dump-every 100 -q; code=$?
 check "--dump-paths: exit 0, every 100th state of 4 chains" \

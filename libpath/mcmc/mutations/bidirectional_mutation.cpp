@@ -175,13 +175,10 @@ void BidirectionalMutation::propose(const MarkovPath& x, Pcg32& rng, Proposal& o
         std::optional<PathVertex> next;
         double pdfArea = 0;
         if (from.type == VertexType::Camera) {
-            const Vec2 raster = sensor_.raster(Vec2(rng.nextDouble(), rng.nextDouble()));
-            const Ray ray = scene_.camera.generateRay(raster);
-            next = traceVertex(scene_, ray);
-            if (!next) return fail(RejectCause::ZeroContribution);
-            double pdfPos = 0, pdfDir = 0;
-            scene_.camera.pdfEmission(ray.d, pdfPos, pdfDir);
-            pdfArea = from.convertDensity(pdfDir * sensor_.cropToSensorDensity(), *next);
+            auto traced = traceFromCamera(scene_, sensor_, from, rng);
+            if (!traced) return fail(RejectCause::ZeroContribution);
+            next = std::move(traced->v);
+            pdfArea = traced->density;
         } else {
             if (!from.bsdf) return fail(RejectCause::ZeroContribution);
             const PathVertex& toward = eye[eye.size() - 2];
@@ -197,8 +194,8 @@ void BidirectionalMutation::propose(const MarkovPath& x, Pcg32& rng, Proposal& o
             if (from.delta) {
                 // The light-to-eye delta differs from the sampled one by R_imp / weight_rad (markov_path.h).
                 const auto imp = wb.deltaEval(bs->wo, wEye, Transport::Importance);
-                if (!imp || !(bs->weight.luminance() > 0)) return fail(RejectCause::ZeroContribution);
-                pdfArea = (imp->weight * imp->pdf).luminance() / bs->weight.luminance() * geometryTerm(from, *next);
+                if (!imp) return fail(RejectCause::ZeroContribution);
+                pdfArea = eyeSideDeltaDensity(*imp, *bs, geometryTerm(from, *next));
             } else {
                 pdfArea = from.convertDensity(bs->pdf, *next);
             }

@@ -89,7 +89,7 @@ std::optional<RejectCause> followChain(const Scene& scene, const std::vector<Pat
                 const auto imp =
                     deltaLobe(prev, normalize(hit->si.p - prev.si.p), scatterKind(prev), Transport::Importance);
                 if (!imp) return RejectCause::ConfigurationChanged;
-                factor *= (imp->weight * imp->pdf).luminance() / (last->weight * last->pdf).luminance();
+                factor = eyeSideDeltaDensity(*imp, *last, factor) / last->pdf; // the lobe was not chosen
             }
             density *= factor;
         }

@@ -12,4 +12,16 @@ Ray rayFrom(const PathVertex& from, const Vec3& dir) {
     return from.isOnSurface() ? spawnRay(from.si.endpoint(), dir) : Ray{from.si.p, dir};
 }
 
+std::optional<TracedVertex> traceFromCamera(const Scene& scene, const SensorWindow& sensor, const PathVertex& camera,
+                                            Pcg32& rng) {
+    const Vec2 raster = sensor.raster(Vec2(rng.nextDouble(), rng.nextDouble()));
+    const Ray ray = scene.camera.generateRay(raster);
+    auto hit = traceVertex(scene, ray);
+    if (!hit) return std::nullopt;
+    double pdfPos = 0, pdfDir = 0;
+    scene.camera.pdfEmission(ray.d, pdfPos, pdfDir);
+    const double density = camera.convertDensity(pdfDir * sensor.cropToSensorDensity(), *hit);
+    return TracedVertex{std::move(*hit), density};
+}
+
 } // namespace lt

@@ -4,6 +4,8 @@
 
 #include <optional>
 
+#include "math/rng.h"
+#include "mcmc/sensor_window.h"
 #include "path/vertex.h"
 
 namespace lt {
@@ -14,5 +16,15 @@ namespace lt {
 // The ray leaving `from` along `dir`: offset from a surface, from the point itself for point-like
 // vertices (pinhole, point light).
 [[nodiscard]] Ray rayFrom(const PathVertex& from, const Vec3& dir);
+
+// A new eye-side vertex seen from the camera vertex through a raster position uniform over the sensor
+// window, and its density in the area measure (markov_path.h's densityFromEye at k - 1); nothing when
+// the ray escapes.
+struct TracedVertex {
+    PathVertex v;
+    double density = 0;
+};
+[[nodiscard]] std::optional<TracedVertex> traceFromCamera(const Scene& scene, const SensorWindow& sensor,
+                                                          const PathVertex& camera, Pcg32& rng);
 
 } // namespace lt

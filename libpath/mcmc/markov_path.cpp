@@ -15,9 +15,22 @@ std::optional<BsdfSample> deltaImportance(const std::vector<PathVertex>& v, size
     return worldBsdf(v[i]).deltaEval(v[i].directionTo(v[i - 1]), v[i].directionTo(v[i + 1]), Transport::Importance);
 }
 
+// The same point with the same normal: the shadow ray between two such vertices is the same ray.
+bool sameVertex(const PathVertex& a, const PathVertex& b) {
+    return a.type == b.type && a.si.p == b.si.p && a.si.ng == b.si.ng;
+}
+
+// Whether `path` has an edge from a to b (light to eye). Perturbations keep most edges, the bidirectional
+// mutation a prefix and a suffix (shifted when the length changes): a scan finds them either way.
+bool hasEdge(const MarkovPath& path, const PathVertex& a, const PathVertex& b) {
+    for (size_t j = 0; j + 1 < path.v.size(); ++j)
+        if (sameVertex(path.v[j], a) && sameVertex(path.v[j + 1], b)) return true;
+    return false;
+}
+
 } // namespace
 
-std::optional<RejectCause> evaluatePath(const Scene& scene, MarkovPath& path) {
+std::optional<RejectCause> evaluatePath(const Scene& scene, MarkovPath& path, const MarkovPath* verified) {
     auto& v = path.v;
     path.f = {};
     path.target = 0;
@@ -60,7 +73,8 @@ std::optional<RejectCause> evaluatePath(const Scene& scene, MarkovPath& path) {
     if (f.isBlack()) return RejectCause::ZeroContribution;
     if (!f.isFinite()) return RejectCause::NonFinite;
     for (size_t i = 0; i < k; ++i)
-        if (!visible(scene, v[i], v[i + 1])) return RejectCause::Occluded;
+        if (!(verified && hasEdge(*verified, v[i], v[i + 1])) && !visible(scene, v[i], v[i + 1]))
+            return RejectCause::Occluded;
     path.f = f;
     path.target = targetValue(f);
     return std::nullopt;

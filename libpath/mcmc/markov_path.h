@@ -46,7 +46,11 @@ struct MarkovPath {
 
 // Recompute raster, f and target from the vertices alone (and set every surface vertex's wi toward the
 // light side). Returns the cause when the path carries nothing: occluded, off the sensor, or zero.
-[[nodiscard]] std::optional<RejectCause> evaluatePath(const Scene& scene, MarkovPath& path);
+// `verified`, when given, is a state evaluated before (the chain's current path): an edge of `path`
+// between the same two vertices as one of its edges (same points and normals, so the same shadow ray)
+// is known to be unoccluded and is not traced again. Everything else is recomputed.
+[[nodiscard]] std::optional<RejectCause> evaluatePath(const Scene& scene, MarkovPath& path,
+                                                      const MarkovPath* verified = nullptr);
 
 // A chain's state as a path record (lt-mutate --dump-paths): s = t = 0 (no BDPT technique), the lobe
 // bits saying exactly which vertices are specular, contribution f, weight f*, and (chain, mutation) as

@@ -25,10 +25,11 @@ struct Proposal {
 };
 
 // The end of every proposal: y re-evaluated from its vertices (false, with the cause in `failed`, when it
-// carries nothing), then the two transition densities T(x -> y) and T(y -> x) (in the measure of what
-// changed) turned into Q; `sampled` is what the proposal multiplied while sampling.
-[[nodiscard]] inline bool evaluateProposal(const Scene& scene, Proposal& out) {
-    out.failed = evaluatePath(scene, out.y);
+// carries nothing; the shadow rays of edges it shares with x are not traced again), then the two
+// transition densities T(x -> y) and T(y -> x) (in the measure of what changed) turned into Q; `sampled`
+// is what the proposal multiplied while sampling.
+[[nodiscard]] inline bool evaluateProposal(const Scene& scene, const MarkovPath& x, Proposal& out) {
+    out.failed = evaluatePath(scene, out.y, &x);
     return !out.failed;
 }
 inline void setTransitionDensities(Proposal& out, const MarkovPath& x, double sampled, double forwardT,

@@ -215,7 +215,7 @@ void BidirectionalMutation::propose(const MarkovPath& x, Pcg32& rng, Proposal& o
     }
     out.y.v = std::move(light);
     out.y.v.insert(out.y.v.end(), eye.rbegin(), eye.rend());
-    if (!evaluateProposal(scene_, out)) return;
+    if (!evaluateProposal(scene_, x, out)) return;
 
     // 4. Q in both directions, from the two paths alone.
     const int kNew = out.y.edges();

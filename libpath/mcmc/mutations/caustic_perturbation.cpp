@@ -62,7 +62,7 @@ void CausticPerturbation::propose(const MarkovPath& x, Pcg32& rng, Proposal& out
         out.failed = why;
         return;
     }
-    if (!evaluateProposal(scene_, out)) return;
+    if (!evaluateProposal(scene_, x, out)) return;
     // 3. Q both ways; the reverse turn by the same theta has the density of y's range (pitfall P-2).
     setTransitionDensities(out, x, sampled, chainDensity(out.y, pdfDir),
                            chainDensity(x, angles(out.y).sphereDensity(theta)));

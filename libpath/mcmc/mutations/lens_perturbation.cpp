@@ -21,7 +21,7 @@ void LensPerturbation::propose(const MarkovPath& x, Pcg32& rng, Proposal& out) c
     const auto pOffset = perturbLensChain(scene_, sensor_, radius_, x, j, rng, out, sampled);
     if (!pOffset) return;
     // 3. Connect x_j' to x_{j-1} (step 4): evaluatePath checks visibility and recomputes f and the raster.
-    if (!evaluateProposal(scene_, out)) return;
+    if (!evaluateProposal(scene_, x, out)) return;
     // 4. Q in both directions from the two paths; p_offset(r) is the same both ways.
     setTransitionDensities(out, x, sampled, *pOffset * eyeChainDensity(scene_, sensor_, out.y.v, j),
                            *pOffset * eyeChainDensity(scene_, sensor_, x.v, j));

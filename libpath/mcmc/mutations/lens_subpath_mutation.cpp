@@ -84,7 +84,7 @@ void LensSubpathMutation::propose(const MarkovPath& x, Pcg32& rng, Proposal& out
     // 3. Join: the kept prefix, then the new subpath light to eye; evaluatePath checks the connection.
     out.y.v.assign(x.v.begin(), x.v.begin() + j);
     out.y.v.insert(out.y.v.end(), eye.rbegin(), eye.rend());
-    if (!evaluateProposal(scene_, out)) return;
+    if (!evaluateProposal(scene_, x, out)) return;
     // 4. T of each lens subpath from its path alone.
     setTransitionDensities(out, x, sampled, subpathDensity(out.y.v, j), subpathDensity(x.v, j));
 }

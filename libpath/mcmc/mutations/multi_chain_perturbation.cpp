@@ -63,7 +63,7 @@ void MultiChainPerturbation::propose(const MarkovPath& x, Pcg32& rng, Proposal& 
         }
     }
     // 3. Connect x_c' to x_{c-1}: evaluatePath.
-    if (!evaluateProposal(scene_, out)) return;
+    if (!evaluateProposal(scene_, x, out)) return;
     // 4. Q both ways: the same offsets, each path's own Jacobians (step 4).
     setTransitionDensities(out, x, sampled, density(out.y, *pOffset, thetas), density(x, *pOffset, thetas));
 }

@@ -8,6 +8,7 @@ packages=(
   libembree-dev libtbb-dev          # ray tracing
   libopenexr-dev libopenimageio-dev # images
   libceres-dev libeigen3-dev        # Poisson reconstruction, small dense/sparse algebra
+  libfftw3-dev                      # cosine-transform Poisson solver of large reconstructions
   libcli11-dev nlohmann-json3-dev   # command lines, JSON
   libpugixml-dev libtinyobjloader-dev zlib1g-dev   # scene XML, meshes, Mitsuba .serialized
   catch2                            # tests

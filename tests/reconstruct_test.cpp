@@ -1,8 +1,9 @@
 // reconstruct/: the screened Poisson reconstruction (ALGORITHMS.md 7 "Tests"): exact recovery from exact
-// gradients, Ceres and Eigen CG against an Eigen sparse solve of the normal equations, Eigen CG against
-// Ceres for L1, auto's choice of solver, unbiasedness of L2 over many noise draws against the variance
-// the linear solve implies, L1's robustness to outliers, the offset equivariance, stiff cases, the direct
-// plane, and the messages for bad input.
+// gradients, Ceres, Eigen CG and the cosine transform against an Eigen sparse solve of the normal
+// equations, Eigen CG against Ceres for L1, auto's choice of solver, unbiasedness of L2 over many noise
+// draws against the variance the linear solve implies, L1's robustness to outliers (also with the cosine
+// transform's solver forced), the offset equivariance, stiff cases, the direct plane, and the messages for
+// bad input.
 #include <Eigen/Dense>
 #include <Eigen/Sparse>
 #include <catch2/catch.hpp>
@@ -14,7 +15,9 @@
 
 #include "math/error.h"
 #include "math/rng.h"
+#include "reconstruct/dct_poisson.h"
 #include "reconstruct/gradient_image.h"
+#include "reconstruct/normal_equations.h"
 #include "reconstruct/screened_poisson.h"
 
 using namespace lt;
@@ -141,8 +144,9 @@ Operators differenceOperators(uint32_t w, uint32_t h) {
 }
 
 // The normal equations of the L2 problem, (alpha^2 1 + Dx^T Dx + Dy^T Dy) I = alpha^2 P + Dx^T Gx + Dy^T Gy
-// (ALGORITHMS.md 7), solved by Eigen's sparse LDL^T: an independent reference for Ceres.
-RgbPlanes eigenReference(const GradientImage& im, double alpha) {
+// (ALGORITHMS.md 7), solved by Eigen's sparse LDL^T in double precision: an independent reference for
+// Ceres and the cosine transform.
+std::array<Eigen::VectorXd, 3> referenceSolution(const GradientImage& im, double alpha) {
     const Operators op = differenceOperators(im.width, im.height);
     const int n = int(im.pixels());
     Eigen::SparseMatrix<double> I(n, n);
@@ -151,7 +155,7 @@ RgbPlanes eigenReference(const GradientImage& im, double alpha) {
                                           Eigen::SparseMatrix<double>(op.Dy.transpose() * op.Dy);
     Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(A);
     REQUIRE(ldlt.info() == Eigen::Success);
-    RgbPlanes out;
+    std::array<Eigen::VectorXd, 3> out;
     for (size_t c = 0; c < 3; ++c) {
         Eigen::VectorXd P(n), gx(op.Dx.rows()), gy(op.Dy.rows());
         for (int p = 0; p < n; ++p)
@@ -160,10 +164,31 @@ RgbPlanes eigenReference(const GradientImage& im, double alpha) {
             gx[r] = im.dx[c][op.xRows[size_t(r)]];
         for (int r = 0; r < gy.size(); ++r)
             gy[r] = im.dy[c][op.yRows[size_t(r)]];
-        const Eigen::VectorXd x = ldlt.solve(alpha * alpha * P + op.Dx.transpose() * gx + op.Dy.transpose() * gy);
-        out[c].assign(x.data(), x.data() + n);
+        out[c] = ldlt.solve(alpha * alpha * P + op.Dx.transpose() * gx + op.Dy.transpose() * gy);
     }
     return out;
+}
+
+RgbPlanes eigenReference(const GradientImage& im, double alpha) {
+    RgbPlanes out;
+    const auto x = referenceSolution(im, alpha);
+    for (size_t c = 0; c < 3; ++c)
+        out[c].assign(x[c].data(), x[c].data() + x[c].size());
+    return out;
+}
+
+// Primal and gradients uniform in [-1, 1] (a gradient field that belongs to no image).
+GradientImage randomInput(uint32_t w, uint32_t h, Pcg32& rng) {
+    GradientImage im;
+    im.width = w;
+    im.height = h;
+    for (auto* planes : {&im.primal, &im.dx, &im.dy})
+        for (auto& plane : *planes) {
+            plane.resize(im.pixels());
+            for (auto& v : plane)
+                v = float(2 * rng.nextDouble() - 1);
+        }
+    return im;
 }
 
 } // namespace
@@ -173,7 +198,8 @@ TEST_CASE("exact gradients and primal give back the image (L2, L1, every solver)
     const RgbPlanes truth = smoothImage(w, h);
     const GradientImage im = exactInput(truth, w, h);
     for (auto norm : {ReconstructNorm::L2, ReconstructNorm::L1})
-        for (auto solver : {PoissonSolver::SparseNormalCholesky, PoissonSolver::Cgnr, PoissonSolver::EigenCg}) {
+        for (auto solver : {PoissonSolver::SparseNormalCholesky, PoissonSolver::Cgnr, PoissonSolver::EigenCg,
+                            PoissonSolver::Cosine}) {
             INFO("norm " << normName(norm) << ", solver " << int(solver));
             CHECK(maxRelativeError(solve(im, norm, 0.2, solver), truth) < 1e-4);
         }
@@ -218,6 +244,43 @@ TEST_CASE("Ceres solves the normal equations: same as Eigen's sparse LDL^T on 64
         // |b| <= |A| |x*| = (alpha^2 + 8) |x*| the error is |x - x*| <= tol (alpha^2 + 8) / alpha^2 |x*|.
         const double bound = kEigenCgTolerance * (alpha * alpha + 8) / (alpha * alpha);
         CHECK(relativeNormError(solve(im, ReconstructNorm::L2, alpha, PoissonSolver::EigenCg), ref) < bound);
+        // The cosine transform is exact up to rounding, as sparse Cholesky.
+        CHECK(maxRelativeError(solve(im, ReconstructNorm::L2, alpha, PoissonSolver::Cosine), ref) < 1e-6);
+    }
+}
+
+TEST_CASE("the cosine transform solves the L2 normal equations exactly: same as Eigen's sparse LDL^T",
+          "[reconstruct]") {
+    // Both solves are backward stable, so each one's forward error is bounded by (a small multiple of)
+    // kappa eps with eps = 2^-52 and kappa = lambda_max / lambda_min <= (alpha^2 + 8) / alpha^2 the
+    // condition number of A = alpha^2 1 + Dx^T Dx + Dy^T Dy (Gershgorin: the Laplacian's eigenvalues lie in
+    // [0, 8)). The transform adds a rounding of order eps log2(N) per mode, LDL^T one of order eps times
+    // the fill; 64 covers both factors on these sizes. At alpha 1e-4 kappa = 8e8 makes the bound 1.1e-5;
+    // at alpha 10, 2e-14. The (0, 0) mode's denominator is alpha^2 = 1e-8 there, exact in the
+    // transform's division, so it must not show up as a larger error.
+    Pcg32 rng(23, 9);
+    for (auto [w, h] :
+         {std::pair{7u, 5u}, std::pair{1u, 9u}, std::pair{9u, 1u}, std::pair{1u, 1u}, std::pair{32u, 24u}}) {
+        const GradientImage im = randomInput(w, h, rng);
+        const CosinePoisson transform(w, h);
+        for (double alpha : {1e-4, 0.2, 10.0}) {
+            const auto ref = referenceSolution(im, alpha);
+            const double kappa = (alpha * alpha + 8) / (alpha * alpha);
+            const double bound = 64 * kappa * std::numeric_limits<double>::epsilon();
+            for (size_t c = 0; c < 3; ++c) {
+                Eigen::VectorXd b;
+                normalRightHandSide(im, c, alpha, {}, b);
+                Eigen::VectorXd x = b;
+                transform.solve({alpha * alpha, 1, 1}, x);
+                const double error = (x - ref[c]).norm() / ref[c].norm();
+                INFO(w << "x" << h << ", alpha " << alpha << ", channel " << c << ": relative error " << error
+                       << ", bound " << bound);
+                CHECK(x.allFinite());
+                CHECK(error <= bound);
+                // The residual of the stencil, as the statistics report it: the same kappa eps bound.
+                CHECK(normalResidual(w, h, alpha, {}, b, x) <= bound);
+            }
+        }
     }
 }
 
@@ -257,7 +320,8 @@ TEST_CASE("Eigen CG solves the same problems as Ceres's sparse Cholesky, L2 and 
     }
 }
 
-TEST_CASE("auto: Ceres's sparse Cholesky up to kCholeskyMaxPixels, Eigen CG above", "[reconstruct]") {
+TEST_CASE("auto: Ceres's sparse Cholesky up to kCholeskyMaxPixels; above, DCT for L2 and Eigen CG for L1",
+          "[reconstruct]") {
     ReconstructSettings s;
     ReconstructStatistics stats;
     const RgbPlanes small = smoothImage(64, 64);
@@ -265,15 +329,25 @@ TEST_CASE("auto: Ceres's sparse Cholesky up to kCholeskyMaxPixels, Eigen CG abov
     (void)reconstructScreenedPoisson(exactInput(small, 64, 64), s, stats);
     CHECK(stats.solverUsed == PoissonSolver::SparseNormalCholesky);
     CHECK(stats.solver == "SPARSE_NORMAL_CHOLESKY");
+    CHECK(stats.solverReason == "auto: 4096 <= 4096 pixels");
     const uint32_t w = 400, h = 300;
     const RgbPlanes truth = smoothImage(w, h);
     const file::Buffer out = reconstructScreenedPoisson(exactInput(truth, w, h), s, stats);
+    CHECK(stats.solverUsed == PoissonSolver::Cosine);
+    CHECK(stats.solver == "DCT");
+    CHECK(stats.solverReason == "auto: 120000 > 4096 pixels, l2");
+    CHECK(stats.solves == 3);
+    CHECK(stats.linearIterations == 3); // one exact transform solve per channel
+    // The residual of an exact solve: rounding only (kappa eps = 201 * 2.2e-16 = 4.5e-14 at alpha 0.2).
+    CHECK(stats.linearResidual < 1e-12);
+    CHECK(maxRelativeError(out, truth) < 1e-4);
+    s.norm = ReconstructNorm::L1;
+    s.irlsIterations = 2;
+    const RgbPlanes l1Truth = smoothImage(80, 60);
+    (void)reconstructScreenedPoisson(exactInput(l1Truth, 80, 60), s, stats);
     CHECK(stats.solverUsed == PoissonSolver::EigenCg);
     CHECK(stats.solver == "EIGEN_CG");
-    CHECK(stats.solverReason == "auto: 120000 > 4096 pixels");
-    CHECK(stats.solves == 3);
-    CHECK(stats.linearResidual <= kEigenCgTolerance);
-    CHECK(maxRelativeError(out, truth) < 1e-4);
+    CHECK(stats.solverReason == "auto: 4800 > 4096 pixels, l1");
 }
 
 TEST_CASE("L2 is unbiased: the mean over 1000 noise draws is the truth within 5 standard errors", "[reconstruct]") {
@@ -332,15 +406,18 @@ TEST_CASE("L1 resists sparse huge gradient outliers that ruin L2", "[reconstruct
             for (auto& plane : g)
                 plane[p] = v;
         }
-    const file::Buffer l2 = solve(im, ReconstructNorm::L2, 0.2), l1 = solve(im, ReconstructNorm::L1, 0.2);
-    CHECK(allFinite(l1));
-    CHECK(allFinite(l2));
-    const double e1 = rmse(l1, truth), e2 = rmse(l2, truth);
-    INFO("rmse L1 " << e1 << ", L2 " << e2);
-    // L2 spreads each 1e6 over its neighbourhood (errors of order 1e4 and more); L1 stays near the noise
-    // level of the inputs (0.05 on the primal).
-    CHECK(e2 > 1e3);
-    CHECK(e1 < 0.1);
+    for (auto solver : {PoissonSolver::Auto, PoissonSolver::Cosine}) {
+        const file::Buffer l2 = solve(im, ReconstructNorm::L2, 0.2, solver),
+                           l1 = solve(im, ReconstructNorm::L1, 0.2, solver);
+        CHECK(allFinite(l1));
+        CHECK(allFinite(l2));
+        const double e1 = rmse(l1, truth), e2 = rmse(l2, truth);
+        INFO("solver " << int(solver) << ": rmse L1 " << e1 << ", L2 " << e2);
+        // L2 spreads each 1e6 over its neighbourhood (errors of order 1e4 and more); L1 stays near the
+        // noise level of the inputs (0.05 on the primal).
+        CHECK(e2 > 1e3);
+        CHECK(e1 < 0.1);
+    }
 }
 
 TEST_CASE("a constant offset of the primal shifts the result by that offset", "[reconstruct]") {
@@ -375,38 +452,42 @@ TEST_CASE("stiff inputs: alpha 1e-4 .. 10, outliers of 1e6, constant, black, 1x1
         im.dx[1][37] = 1e6f;
         im.dy[0][100] = -1e6f;
         for (double alpha : {1e-4, 1e-2, 1.0, 10.0})
-            for (auto norm : {ReconstructNorm::L2, ReconstructNorm::L1}) {
-                INFO("alpha " << alpha << ", norm " << normName(norm));
-                CHECK(allFinite(solve(im, norm, alpha)));
-            }
+            for (auto norm : {ReconstructNorm::L2, ReconstructNorm::L1})
+                for (auto solver : {PoissonSolver::Auto, PoissonSolver::Cosine}) {
+                    INFO("alpha " << alpha << ", norm " << normName(norm) << ", solver " << int(solver));
+                    CHECK(allFinite(solve(im, norm, alpha, solver)));
+                }
     }
     SECTION("constant and black images come back exactly") {
         for (float value : {0.0f, 7.5f})
             for (double alpha : {1e-4, 10.0})
-                for (auto norm : {ReconstructNorm::L2, ReconstructNorm::L1}) {
-                    RgbPlanes flat;
-                    for (auto& p : flat)
-                        p.assign(9 * 7, value);
-                    INFO("value " << value << ", alpha " << alpha << ", norm " << normName(norm));
-                    CHECK(maxRelativeError(solve(exactInput(flat, 9, 7), norm, alpha), flat) < 1e-6);
-                }
+                for (auto norm : {ReconstructNorm::L2, ReconstructNorm::L1})
+                    for (auto solver : {PoissonSolver::Auto, PoissonSolver::Cosine}) {
+                        RgbPlanes flat;
+                        for (auto& p : flat)
+                            p.assign(9 * 7, value);
+                        INFO("value " << value << ", alpha " << alpha << ", norm " << normName(norm) << ", solver "
+                                      << int(solver));
+                        CHECK(maxRelativeError(solve(exactInput(flat, 9, 7), norm, alpha, solver), flat) < 1e-6);
+                    }
     }
     SECTION("degenerate sizes") {
         for (auto [w, h] : {std::pair{1u, 1u}, std::pair{1u, 17u}, std::pair{17u, 1u}})
-            for (auto norm : {ReconstructNorm::L2, ReconstructNorm::L1}) {
-                INFO(w << "x" << h << ", norm " << normName(norm));
-                const RgbPlanes truth = smoothImage(w, h);
-                CHECK(maxRelativeError(solve(exactInput(truth, w, h), norm, 1e-4), truth) < 1e-4);
-                // 1x1: no difference at all, the result is the primal whatever alpha.
-                GradientImage noisy = exactInput(truth, w, h);
-                Pcg32 rng(w, h);
-                addNoise(noisy, rng, 0.5, 0.5);
-                const file::Buffer out = solve(noisy, norm, 1e-4);
-                CHECK(allFinite(out));
-                if (w * h == 1)
-                    for (size_t c = 0; c < 3; ++c)
-                        CHECK(out.planes[c][0] == Approx(noisy.primal[c][0]).margin(1e-6));
-            }
+            for (auto norm : {ReconstructNorm::L2, ReconstructNorm::L1})
+                for (auto solver : {PoissonSolver::Auto, PoissonSolver::Cosine}) {
+                    INFO(w << "x" << h << ", norm " << normName(norm) << ", solver " << int(solver));
+                    const RgbPlanes truth = smoothImage(w, h);
+                    CHECK(maxRelativeError(solve(exactInput(truth, w, h), norm, 1e-4, solver), truth) < 1e-4);
+                    // 1x1: no difference at all, the result is the primal whatever alpha.
+                    GradientImage noisy = exactInput(truth, w, h);
+                    Pcg32 rng(w, h);
+                    addNoise(noisy, rng, 0.5, 0.5);
+                    const file::Buffer out = solve(noisy, norm, 1e-4, solver);
+                    CHECK(allFinite(out));
+                    if (w * h == 1)
+                        for (size_t c = 0; c < 3; ++c)
+                            CHECK(out.planes[c][0] == Approx(noisy.primal[c][0]).margin(1e-6));
+                }
     }
 }
 
@@ -448,7 +529,25 @@ TEST_CASE("statistics of a reconstruction", "[reconstruct]") {
     (void)reconstructScreenedPoisson(im, s, stats);
     CHECK(stats.norm == "l1");
     CHECK(stats.irlsIterations == 5);
-    CHECK(stats.solves == 3 * 6); // the L2 start, then one per reweighting step
+    CHECK(stats.solves == 3 * 5); // one per reweighting step (from the primal)
+    CHECK(stats.finalCost < stats.initialCost);
+    // DCT: capped, transform-preconditioned CG for each reweighting step; one exact solve per channel for L2.
+    s.solver = PoissonSolver::Cosine;
+    (void)reconstructScreenedPoisson(im, s, stats);
+    CHECK(stats.solver == "DCT");
+    CHECK(stats.solverReason == "requested");
+    CHECK(stats.solves == 3 * 5);
+    CHECK(stats.solverIterations == 3 * 5);
+    CHECK(stats.linearIterations > 0);
+    CHECK(stats.linearIterations <= 3 * 5 * kCosineL1Iterations);
+    CHECK(stats.linearResidual > 0);
+    CHECK(stats.finalCost < stats.initialCost);
+    s.norm = ReconstructNorm::L2;
+    (void)reconstructScreenedPoisson(im, s, stats);
+    CHECK(stats.solves == 3);
+    CHECK(stats.solverIterations == 3);
+    CHECK(stats.linearIterations == 3);
+    CHECK(stats.linearResidual < 1e-12); // exact up to rounding (kappa eps = 201 * 2.2e-16 at alpha 0.2)
     CHECK(stats.finalCost < stats.initialCost);
 }
 

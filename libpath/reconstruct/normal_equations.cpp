@@ -1,6 +1,7 @@
 #include "reconstruct/normal_equations.h"
 
 #include <Eigen/IterativeLinearSolvers>
+#include <cmath>
 
 namespace lt {
 
@@ -12,6 +13,23 @@ double weight(const std::vector<float>& sqrtWeights, size_t p) {
     if (sqrtWeights.empty()) return 1.0;
     const double s = sqrtWeights[p];
     return s * s;
+}
+
+// Row p = (x, y) of the normal matrix: the couplings to the four neighbours (0 where the neighbour is
+// outside the image) and the diagonal. Row p of Dx^T W_x Dx holds the differences (p-1, p) and (p, p+1)
+// that contain pixel p; Dy likewise.
+struct Stencil {
+    double up, left, center, right, down; // the off-diagonal entries are the negatives of these weights
+};
+Stencil stencilAt(uint32_t W, uint32_t H, uint32_t x, uint32_t y, double alpha2, const ResidualWeights& weights) {
+    const size_t p = size_t(y) * W + x;
+    Stencil s;
+    s.left = x > 0 ? weight(weights.dx, p - 1) : 0;
+    s.right = x + 1 < W ? weight(weights.dx, p) : 0;
+    s.up = y > 0 ? weight(weights.dy, p - W) : 0;
+    s.down = y + 1 < H ? weight(weights.dy, p) : 0;
+    s.center = alpha2 * weight(weights.primal, p) + s.left + s.right + s.up + s.down;
+    return s;
 }
 
 } // namespace
@@ -36,19 +54,17 @@ void assembleNormalMatrix(uint32_t width, uint32_t height, double alpha, const R
         for (uint32_t x = 0; x < W; ++x) {
             const size_t p = size_t(y) * W + x;
             outer[p] = int(k);
-            // Row p of Dx^T W_x Dx: the differences (p-1, p) and (p, p+1) that contain pixel p.
-            const double left = x > 0 ? weight(weights.dx, p - 1) : 0, right = x + 1 < W ? weight(weights.dx, p) : 0;
-            const double up = y > 0 ? weight(weights.dy, p - W) : 0, down = y + 1 < H ? weight(weights.dy, p) : 0;
+            const Stencil s = stencilAt(W, H, x, y, alpha2, weights);
             const auto put = [&](size_t column, double v) {
                 inner[k] = int(column);
                 value[k++] = v;
             };
             // Columns in increasing order, as compressed storage requires.
-            if (y > 0) put(p - W, -up);
-            if (x > 0) put(p - 1, -left);
-            put(p, alpha2 * weight(weights.primal, p) + left + right + up + down);
-            if (x + 1 < W) put(p + 1, -right);
-            if (y + 1 < H) put(p + W, -down);
+            if (y > 0) put(p - W, -s.up);
+            if (x > 0) put(p - 1, -s.left);
+            put(p, s.center);
+            if (x + 1 < W) put(p + 1, -s.right);
+            if (y + 1 < H) put(p + W, -s.down);
         }
     outer[N] = int(k);
 }
@@ -70,6 +86,28 @@ void normalRightHandSide(const GradientImage& image, size_t c, double alpha, con
             if (y + 1 < H) v -= weight(weights.dy, p) * gy[p];
             b[Eigen::Index(p)] = v;
         }
+}
+
+double normalResidual(uint32_t width, uint32_t height, double alpha, const ResidualWeights& weights,
+                      const Eigen::VectorXd& b, const Eigen::Ref<const Eigen::VectorXd>& x) {
+    const uint32_t W = width, H = height;
+    const double alpha2 = alpha * alpha;
+    double residual2 = 0;
+    for (uint32_t y = 0; y < H; ++y)
+        for (uint32_t px = 0; px < W; ++px) {
+            const size_t p = size_t(y) * W + px;
+            const Stencil s = stencilAt(W, H, px, y, alpha2, weights);
+            double Ax = s.center * x[Eigen::Index(p)];
+            if (y > 0) Ax -= s.up * x[Eigen::Index(p - W)];
+            if (px > 0) Ax -= s.left * x[Eigen::Index(p - 1)];
+            if (px + 1 < W) Ax -= s.right * x[Eigen::Index(p + 1)];
+            if (y + 1 < H) Ax -= s.down * x[Eigen::Index(p + W)];
+            const double r = b[Eigen::Index(p)] - Ax;
+            residual2 += r * r;
+        }
+    const double b2 = b.squaredNorm();
+    // b = 0: the solution is 0, and any other x is off by its whole residual.
+    return b2 > 0 ? std::sqrt(residual2 / b2) : std::sqrt(residual2);
 }
 
 ConjugateGradientResult solveNormalEquations(const NormalMatrix& A, const Eigen::VectorXd& b, double tolerance,

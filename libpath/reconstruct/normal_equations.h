@@ -1,7 +1,8 @@
 // The normal equations of the weighted screened Poisson problem on the pixel grid (ALGORITHMS.md 7),
 //   (alpha^2 W_p + Dx^T W_x Dx + Dy^T W_y Dy) I = alpha^2 W_p P + Dx^T W_x Gx + Dy^T W_y Gy,
 // assembled straight from the 5-point stencil as an Eigen sparse matrix and solved by Eigen's conjugate
-// gradients: the backend of reconstructScreenedPoisson for images too large for Ceres (screened_poisson.cpp).
+// gradients: the backend of reconstructScreenedPoisson for images too large for Ceres (screened_poisson.cpp);
+// the right-hand side and residual also serve the cosine-transform solver (dct_poisson.h).
 // W are the IRLS weights of L1 (per pixel, shared by R, G and B); all 1 for L2.
 #pragma once
 
@@ -30,6 +31,11 @@ void assembleNormalMatrix(uint32_t width, uint32_t height, double alpha, const R
 // The right-hand side of the normal equations for channel c (0, 1, 2 = R, G, B).
 void normalRightHandSide(const GradientImage& image, size_t c, double alpha, const ResidualWeights& weights,
                          Eigen::VectorXd& b);
+
+// |b - A x| / |b| for the normal matrix A of assembleNormalMatrix, computed from its stencil without
+// assembling it (|b - A x| when b = 0): the accuracy of a solve that never formed A (dct_poisson.h).
+[[nodiscard]] double normalResidual(uint32_t width, uint32_t height, double alpha, const ResidualWeights& weights,
+                                    const Eigen::VectorXd& b, const Eigen::Ref<const Eigen::VectorXd>& x);
 
 struct ConjugateGradientResult {
     int iterations = 0;

@@ -1,5 +1,6 @@
-// Screened Poisson reconstruction of a gradient-domain render, L2 and L1, solved with Ceres or Eigen CG
-// (ALGORITHMS.md 7; [GDPR] Sec. 2.2, 4; the solver schedule follows Kettunen's GPT code).
+// Screened Poisson reconstruction of a gradient-domain render, L2 and L1, solved with Ceres, Eigen CG or
+// the cosine transform (ALGORITHMS.md 7; [GDPR] Sec. 2.2, 4; the solver schedule follows Kettunen's GPT
+// code).
 //   L2: min_I  alpha^2 |I - P|^2 + |Dx I - Gx|^2 + |Dy I - Gy|^2          (unbiased: linear in P, G)
 //   L1: min_I  sum_p |alpha (I - P)_p| + |(Dx I - Gx)_p| + |(Dy I - Gy)_p|  (per-pixel RGB vector norms)
 // alpha multiplies the primal residual, so it enters the L2 objective squared.
@@ -15,14 +16,16 @@ namespace lt {
 
 enum class ReconstructNorm { L2, L1 };
 enum class PoissonSolver {
-    Auto,                 // Ceres's sparse Cholesky up to kCholeskyMaxPixels, Eigen CG above
+    Auto,                 // Ceres's sparse Cholesky up to kCholeskyMaxPixels; above, Cosine for L2, EigenCg for L1
     SparseNormalCholesky, // Ceres, exact; memory and time grow faster than the image
     Cgnr,                 // Ceres, conjugate gradients on the normal equations, Jacobi preconditioned
     EigenCg,              // Eigen's conjugate gradients on the assembled normal equations, Jacobi preconditioned
+    Cosine,               // the 2-D cosine transform: exact for L2; for L1 it preconditions Eigen's CG (dct_poisson.h)
 };
 
 // Images up to this many pixels are solved by Ceres's sparse Cholesky under PoissonSolver::Auto, larger
-// ones by Eigen CG (the measurements are at the choice, in screened_poisson.cpp).
+// ones by the cosine transform (L2) or Eigen CG (L1) (the measurements are at the choice, in
+// screened_poisson.cpp).
 inline constexpr size_t kCholeskyMaxPixels = 64 * 64;
 
 // Eigen CG stops when |b - A I| <= kEigenCgTolerance |b| for the normal equations A I = b of a channel
@@ -38,14 +41,25 @@ inline constexpr double kEigenCgTolerance = 1e-5;
 // L1 objective 1e-4 (relative) higher, in 9 s instead of 47 s.
 inline constexpr int kEigenCgL1Iterations = 10;
 
+// The cosine solver's default cap per L1 linear solve (CG preconditioned by the transform, dct_poisson.h).
+// Measured at 1280x720 (bench input, 2 threads, a shared machine whose timings vary by 20-40%), L1
+// objective at the end against Eigen CG's 183043 (10 Jacobi steps per solve, 10.7-16 s): 1 step 184075
+// in 9.8 s, 3 steps 183177 in 17-19 s. A step costs a transform pair (56 ms single-threaded) besides the
+// 18 ms mat-vec, and Eigen applies the preconditioner once more than it steps, so it buys no time over
+// Jacobi; 3 steps keep the objective within 1e-3 of Eigen CG's. Without the diagonal scaling S (a
+// constant operator alone: mean, median, geometric or harmonic mean of the weights) 3 steps left the
+// objective 19% higher at 640x360.
+inline constexpr int kCosineL1Iterations = 3;
+
 struct ReconstructSettings {
     ReconstructNorm norm = ReconstructNorm::L2;
     double alpha = 0.2;            // weight of the primal residual; > 0
     int irlsIterations = 20;       // L1: reweighting steps (GPT's L1D preset)
     double irlsRegularizer = 0.05; // L1: reg0 in w = 1 / (|e| + reg0 * decay^it)
     double irlsDecay = 0.5;        // L1: factor on the regularizer per step
-    // Most CG iterations per linear solve (CGNR and Eigen CG); 0: 500 for L2 (GPT's L2Q), and per L1 step
-    // (including its L2 start) 50 with CGNR (L1D) and 10 with Eigen CG (see kEigenCgL1Iterations).
+    // Most CG iterations per linear solve (CGNR, Eigen CG, DCT's L1 steps); 0: 500 for L2 (GPT's L2Q), and
+    // per L1 step 50 with CGNR (L1D), 10 with Eigen CG (kEigenCgL1Iterations) and 3 with DCT
+    // (kCosineL1Iterations). DCT's L2 solves are exact and take no cap.
     int maxLinearIterations = 0;
     PoissonSolver solver = PoissonSolver::Auto;
     int threads = 1;
@@ -56,15 +70,17 @@ struct ReconstructStatistics {
     double alpha = 0;
     int irlsIterations = 0;   // reweighting steps done (0 for L2)
     int solves = 0;           // linear solves (one per channel and linear problem)
-    int solverIterations = 0; // Ceres trust-region iterations, all solves (Eigen CG: 1 per solve)
-    int linearIterations = 0; // linear solver iterations (CG steps; 1 per Cholesky solve), all solves
+    int solverIterations = 0; // Ceres trust-region iterations, all solves (Eigen CG and DCT: 1 per solve)
+    int linearIterations = 0; // linear solver iterations (CG steps; 1 per Cholesky or exact DCT solve), all solves
     double initialCost = 0;   // the objective above (of the chosen norm) at I = P
     double finalCost = 0;     // and at the result (both without the direct plane)
     double seconds = 0;       // wall time of the whole reconstruction
-    std::string solver;       // the linear solver used: SPARSE_NORMAL_CHOLESKY, CGNR (Ceres) or EIGEN_CG
+    std::string solver;       // the linear solver used: SPARSE_NORMAL_CHOLESKY, CGNR (Ceres), EIGEN_CG or DCT
     PoissonSolver solverUsed = PoissonSolver::Auto; // the same as an enum (never Auto)
-    std::string solverReason;                       // why: "requested", or auto's rule and the pixel count
-    double linearResidual = 0; // Eigen CG: the largest |b - A I| / |b| at the end of a solve (0 otherwise)
+    std::string solverReason; // why: "requested", or auto's rule: the pixel count and, above it, the norm
+    // Eigen CG and DCT: the largest |b - A I| / |b| at the end of a solve (0 otherwise); for DCT's exact
+    // solves computed from the stencil afterwards, so it shows the rounding error.
+    double linearResidual = 0;
 };
 
 // Called after each linear problem: (problems done, problems in all); the tool shows it as progress.

@@ -33,7 +33,7 @@ check "L2 beats the primal ($el2 vs $ep)" 'awk -v a="$el2" -v b="$ep" "BEGIN { e
 
 out=$("$bin/lt-reconstruct" in.lts --norm l1 --iterations 5 -o l1.exr 2>&1); code=$?
 check "L1: exit 0, EXR written, 5 IRLS steps" '[ $code -eq 0 ] && [ "$(magic l1.exr 4)" = "762f3101" ] &&
-  echo "$out" | grep -q "^lt-reconstruct: l1, alpha 0.2, 48x32: 5 IRLS steps, 18 solves"'
+  echo "$out" | grep -q "^lt-reconstruct: l1, alpha 0.2, 48x32: 5 IRLS steps, 15 solves"'
 
 # Eigen CG on request gives the exact solve's image to its tolerance (relative residual 1e-5: an MSE
 # far below 1e-8 on values near 1) and is named in the statistics and the STAT table (solver code 3).
@@ -47,11 +47,26 @@ import json, sys
 t = [s for s in json.load(sys.stdin)[\"stats\"] if s[\"name\"] == \"reconstruct\"][0]
 assert dict(zip(t[\"rows\"], [r[0] for r in t[\"values\"]]))[\"solver\"] == 3
 "'
-# auto takes Eigen CG above 64x64 pixels and says why.
+# auto takes DCT for L2 and Eigen CG for L1 above 64x64 pixels and says why.
 "$bin/lt-bench-gradient-input" --width 80 --height 60 -o big.lts
 out=$("$bin/lt-reconstruct" big.lts -o big.exr 2>&1); code=$?
-check "auto: eigen-cg above 4096 pixels" '[ $code -eq 0 ] &&
-  echo "$out" | grep -q "3 solves with EIGEN_CG (auto: 4800 > 4096 pixels)"'
+check "auto: dct for L2 above 4096 pixels" '[ $code -eq 0 ] &&
+  echo "$out" | grep -q "3 solves with DCT (auto: 4800 > 4096 pixels, l2), 3 iterations, 3 linear solver iterations, relative residual <= "'
+out=$("$bin/lt-reconstruct" big.lts --norm l1 --iterations 2 -o big.exr 2>&1); code=$?
+check "auto: eigen-cg for L1 above 4096 pixels" '[ $code -eq 0 ] &&
+  echo "$out" | grep -q "6 solves with EIGEN_CG (auto: 4800 > 4096 pixels, l1)"'
+# DCT on request: the exact solve's image (float output: MSE far below 1e-12 on values near 1), solver
+# code 4 in the STAT table.
+out=$("$bin/lt-reconstruct" in.lts --solver dct -o dct.lts 2>&1); code=$?
+edct=$("$bin/lt-error" dct.lts --ref l2.lts --metric mse --csv mse.csv > /dev/null 2>&1 && awk -F, 'NR == 2 { print $7 }' mse.csv)
+check "dct: exit 0, named, same image as Cholesky (mse $edct)" '[ $code -eq 0 ] &&
+  echo "$out" | grep -Eq "^lt-reconstruct: l2, alpha 0.2, 48x32: 3 solves with DCT \(requested\), 3 iterations, 3 linear solver iterations, relative residual <= " &&
+  awk -v e="$edct" "BEGIN { exit !(e < 1e-12) }" &&
+  "$bin/lt-inspect" dct.lts --json | python3 -c "
+import json, sys
+t = [s for s in json.load(sys.stdin)[\"stats\"] if s[\"name\"] == \"reconstruct\"][0]
+assert dict(zip(t[\"rows\"], [r[0] for r in t[\"values\"]]))[\"solver\"] == 4
+"'
 
 # The same input as a multi-layer EXR, as separate files (each file's primal, dx, dy layer) and on a pipe.
 "$bin/lt-image" in.lts -o layers.exr 2>/dev/null
@@ -93,6 +108,6 @@ bad "no input" "lt-reconstruct: error: no input: give IN, or --primal, --dx and 
 
 check "--help explains the conventions" '"$bin/lt-reconstruct" --help | grep -q "forward differences" &&
   "$bin/lt-reconstruct" --help | grep -q "enters the L2 objective squared" &&
-  "$bin/lt-reconstruct" --help | grep -q "eigen-cg"'
+  "$bin/lt-reconstruct" --help | grep -q "eigen-cg" && "$bin/lt-reconstruct" --help | grep -q "dct"'
 
 exit $fail

@@ -1,5 +1,8 @@
 #include "image/film.h"
 
+#include <oneapi/tbb/parallel_for.h>
+
+#include <algorithm>
 #include <cmath>
 
 namespace lt {
@@ -12,13 +15,20 @@ SampleFilm::SampleFilm(const PerspectiveCamera& camera) : filter_(camera.film().
     count_.assign(window_.area(), 0);
 }
 
-template <class F> void SampleFilm::forEachPixel(const Vec2& raster, F&& f) const {
+std::pair<int, int> SampleFilm::rowsAround(const Vec2& raster) const {
     // Pixels whose filter support contains the position: centers within the radius of it.
+    const double r = filter_.radius();
+    return {std::max(window_.y0, int(std::ceil(raster.y - r - 0.5))),
+            std::min(window_.y1 - 1, int(std::floor(raster.y + r - 0.5)))};
+}
+
+template <class F> void SampleFilm::forEachPixel(const Vec2& raster, F&& f, int rowLo, int rowHi) const {
     const double r = filter_.radius();
     const int xa = std::max(window_.x0, int(std::ceil(raster.x - r - 0.5)));
     const int xb = std::min(window_.x1 - 1, int(std::floor(raster.x + r - 0.5)));
-    const int ya = std::max(window_.y0, int(std::ceil(raster.y - r - 0.5)));
-    const int yb = std::min(window_.y1 - 1, int(std::floor(raster.y + r - 0.5)));
+    auto [ya, yb] = rowsAround(raster);
+    ya = std::max(ya, rowLo);
+    yb = std::min(yb, rowHi - 1);
     for (int y = ya; y <= yb; ++y)
         for (int x = xa; x <= xb; ++x) {
             const double w = filter_.eval({raster.x - (x + 0.5), raster.y - (y + 0.5)});
@@ -42,10 +52,38 @@ void SampleFilm::merge(const TileResult& tile) {
             cameraSamples_ += tile.count[src];
         }
     for (const auto& s : tile.splats)
-        forEachPixel(s.raster, [&](size_t dst, double w) {
-            for (int c = 0; c < 3; ++c) splat_[3 * dst + size_t(c)] += w * s.value[c];
-        });
+        addSplat(s, window_.y0, window_.y1);
     lightPaths_ += tile.lightPaths;
+}
+
+void SampleFilm::addSplat(const TileResult::Splat& s, int rowLo, int rowHi) {
+    forEachPixel(
+        s.raster,
+        [&](size_t dst, double w) {
+            for (int c = 0; c < 3; ++c) splat_[3 * dst + size_t(c)] += w * s.value[c];
+        },
+        rowLo, rowHi);
+}
+
+void SampleFilm::mergeSplats(const std::vector<const std::vector<TileResult::Splat>*>& lists, uint64_t lightPaths) {
+    // Bands of rows, each splat listed (in the order given) in every band it reaches; then the bands in
+    // parallel. 16 rows: a band holds a splat's whole footprint for filters up to radius 7.5.
+    constexpr int BandRows = 16;
+    const int bands = (height() + BandRows - 1) / BandRows;
+    std::vector<std::vector<const TileResult::Splat*>> perBand(static_cast<size_t>(std::max(bands, 0)));
+    for (const auto* list : lists)
+        for (const auto& s : *list) {
+            const auto [ya, yb] = rowsAround(s.raster);
+            if (ya > yb) continue; // off the stored rows
+            for (int b = (ya - window_.y0) / BandRows; b <= (yb - window_.y0) / BandRows; ++b)
+                perBand[size_t(b)].push_back(&s);
+        }
+    tbb::parallel_for(0, bands, [&](int b) {
+        const int rowLo = window_.y0 + b * BandRows, rowHi = std::min(window_.y1, rowLo + BandRows);
+        for (const auto* s : perBand[size_t(b)])
+            addSplat(*s, rowLo, rowHi);
+    });
+    lightPaths_ += lightPaths;
 }
 
 std::vector<float> SampleFilm::develop() const {

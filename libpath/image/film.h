@@ -7,7 +7,9 @@
 // depend on the number of threads.
 #pragma once
 
+#include <climits>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "formats/records.h"
@@ -52,6 +54,11 @@ public:
     }
 
     void merge(const TileResult& tile);
+    // Adds the splats of several lists (the Markov chains' rounds) and their light paths, in parallel over
+    // bands of rows: each pixel still receives the splats in the order given, list by list, so the film
+    // is the same, bit for bit, as merging the lists one after another, for any thread count. Runs in the
+    // caller's TBB arena.
+    void mergeSplats(const std::vector<const std::vector<TileResult::Splat>*>& lists, uint64_t lightPaths);
     // Sum of the stored pixels' filters h_j at a raster position: 1 inside the image for box and tent,
     // within about 1 % for the truncated gaussian, less near the border. The Markov chains' b integrates
     // over raster positions, so seed paths of camera strategies (drawn from h_j around their pixel) are
@@ -69,8 +76,15 @@ public:
     [[nodiscard]] file::Buffer toBuffer() const;
 
 private:
-    // Calls f(index, h_j) for every stored pixel j whose filter support contains the raster position.
-    template <class F> void forEachPixel(const Vec2& raster, F&& f) const;
+    // The stored rows [first, last] whose pixels' filter supports can contain the raster position (first >
+    // last when none).
+    [[nodiscard]] std::pair<int, int> rowsAround(const Vec2& raster) const;
+    // Calls f(index, h_j) for every stored pixel j whose filter support contains the raster position, in
+    // the rows [rowLo, rowHi) only.
+    template <class F>
+    void forEachPixel(const Vec2& raster, F&& f, int rowLo = INT_MIN, int rowHi = INT_MAX) const;
+    // A splat spread over the pixels of rows [rowLo, rowHi) it reaches.
+    void addSplat(const TileResult::Splat& s, int rowLo, int rowHi);
 
     PixelRect window_;
     FilterDensity filter_;

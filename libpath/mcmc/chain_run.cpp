@@ -74,15 +74,17 @@ void ChainRunner::run(std::vector<std::unique_ptr<MarkovChain>>& chains, double 
                 EmbreeAccel::flushRayCount();
             });
         });
-        // Merge in chain order: the film does not depend on which thread ran which chain.
+        // Merge in chain order (in parallel over the film's rows): the film does not depend on which thread
+        // ran which chain.
+        std::vector<const std::vector<TileResult::Splat>*> splats;
+        uint64_t roundMutations = 0;
         for (size_t c = 0; c < chains.size(); ++c) {
-            TileResult r;
-            r.splats = std::move(images[c].splats());
-            r.lightPaths = done[c];
-            film_.merge(r);
-            mutations_ += done[c];
+            splats.push_back(&images[c].splats());
+            roundMutations += done[c];
             if (afterRound) afterRound(*chains[c]);
         }
+        arena.execute([&] { film_.mergeSplats(splats, roundMutations); });
+        mutations_ += roundMutations;
         const double wall = elapsed();
         double fraction = run_.mutations > 0 ? double(mutations_) / double(run_.mutations) : -1;
         if (run_.timeLimit > 0) fraction = std::max(fraction, std::min(1.0, wall / run_.timeLimit));

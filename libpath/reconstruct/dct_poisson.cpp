@@ -2,7 +2,6 @@
 
 #include <fftw3.h>
 
-#include <Eigen/IterativeLinearSolvers>
 #include <cmath>
 #include <mutex>
 #include <string>
@@ -106,14 +105,10 @@ ScreenedLaplacian harmonicWeightOperator(double alpha, const ResidualWeights& we
 ConjugateGradientResult solveNormalEquationsCosine(const NormalMatrix& A, const Eigen::VectorXd& b,
                                                    const CosinePoisson& transform, const ScreenedLaplacian& op,
                                                    double tolerance, int maxIterations, Eigen::Ref<Eigen::VectorXd> x) {
-    Eigen::ConjugateGradient<NormalMatrix, Eigen::Lower | Eigen::Upper, CosinePreconditioner> cg;
     const double interiorDiagonal = op.screen + 2 * op.x + 2 * op.y;
-    cg.preconditioner().set(transform, op, (interiorDiagonal / A.diagonal().array()).sqrt().matrix());
-    cg.setTolerance(tolerance);
-    cg.setMaxIterations(maxIterations);
-    cg.compute(A);
-    x = cg.solveWithGuess(b, x);
-    return {int(cg.iterations()), cg.error()};
+    return conjugateGradients<CosinePreconditioner>(A, b, tolerance, maxIterations, x, [&](CosinePreconditioner& p) {
+        p.set(transform, op, (interiorDiagonal / A.diagonal().array()).sqrt().matrix());
+    });
 }
 
 } // namespace lt

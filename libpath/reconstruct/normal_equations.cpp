@@ -1,6 +1,5 @@
 #include "reconstruct/normal_equations.h"
 
-#include <Eigen/IterativeLinearSolvers>
 #include <cmath>
 
 namespace lt {
@@ -108,17 +107,6 @@ double normalResidual(uint32_t width, uint32_t height, double alpha, const Resid
     const double b2 = b.squaredNorm();
     // b = 0: the solution is 0, and any other x is off by its whole residual.
     return b2 > 0 ? std::sqrt(residual2 / b2) : std::sqrt(residual2);
-}
-
-ConjugateGradientResult solveNormalEquations(const NormalMatrix& A, const Eigen::VectorXd& b, double tolerance,
-                                             int maxIterations, Eigen::Ref<Eigen::VectorXd> x) {
-    Eigen::ConjugateGradient<NormalMatrix, Eigen::Lower | Eigen::Upper, Eigen::DiagonalPreconditioner<double>> cg;
-    cg.setTolerance(tolerance);
-    cg.setMaxIterations(maxIterations);
-    cg.compute(A);
-    // x is the guess and the result: Eigen copies the guess into the destination first, a no-op here.
-    x = cg.solveWithGuess(b, x);
-    return {int(cg.iterations()), cg.error()};
 }
 
 } // namespace lt

@@ -6,6 +6,7 @@
 // W are the IRLS weights of L1 (per pixel, shared by R, G and B); all 1 for L2.
 #pragma once
 
+#include <Eigen/IterativeLinearSolvers>
 #include <Eigen/Sparse>
 #include <vector>
 
@@ -42,9 +43,27 @@ struct ConjugateGradientResult {
     double relativeResidual = 0; // |b - A x| / |b| at exit
 };
 
-// Solves A x = b by Jacobi-preconditioned conjugate gradients starting from x (the warm start), until
-// |b - A x| <= tolerance |b| or maxIterations steps; leaves the result in x.
-ConjugateGradientResult solveNormalEquations(const NormalMatrix& A, const Eigen::VectorXd& b, double tolerance,
-                                             int maxIterations, Eigen::Ref<Eigen::VectorXd> x);
+// Solves A x = b by conjugate gradients with the preconditioner P (Eigen's preconditioner interface)
+// starting from x (the warm start), until |b - A x| <= tolerance |b| or maxIterations steps; leaves the
+// result in x. `prepare(P&)` sets the preconditioner up before the solve (Eigen default-constructs it).
+template <class Preconditioner, class Prepare>
+ConjugateGradientResult conjugateGradients(const NormalMatrix& A, const Eigen::VectorXd& b, double tolerance,
+                                           int maxIterations, Eigen::Ref<Eigen::VectorXd> x, Prepare&& prepare) {
+    Eigen::ConjugateGradient<NormalMatrix, Eigen::Lower | Eigen::Upper, Preconditioner> cg;
+    prepare(cg.preconditioner());
+    cg.setTolerance(tolerance);
+    cg.setMaxIterations(maxIterations);
+    cg.compute(A);
+    // x is the guess and the result: Eigen copies the guess into the destination first, a no-op here.
+    x = cg.solveWithGuess(b, x);
+    return {int(cg.iterations()), cg.error()};
+}
+
+// Conjugate gradients with the Jacobi preconditioner (Eigen CG).
+inline ConjugateGradientResult solveNormalEquations(const NormalMatrix& A, const Eigen::VectorXd& b, double tolerance,
+                                                    int maxIterations, Eigen::Ref<Eigen::VectorXd> x) {
+    return conjugateGradients<Eigen::DiagonalPreconditioner<double>>(A, b, tolerance, maxIterations, x,
+                                                                     [](auto&) {});
+}
 
 } // namespace lt

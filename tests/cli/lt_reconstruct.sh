@@ -8,6 +8,13 @@ source "$(dirname "${BASH_SOURCE[0]}")/lib.bash" "$@"
 
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 cd "$tmp" || exit 1
+# stat_row FILE ROW: the value of ROW in FILE's STAT table "reconstruct"
+stat_row() { "$bin/lt-inspect" "$1" --json | python3 -c "
+import json, sys
+t = [s for s in json.load(sys.stdin)['stats'] if s['name'] == 'reconstruct'][0]
+print('%g' % dict(zip(t['rows'], [r[0] for r in t['values']]))[sys.argv[1]])" "$2"; }
+# mse FILE REF: lt-error's MSE of FILE against REF
+mse() { "$bin/lt-error" "$1" --ref "$2" --metric mse --csv mse.csv > /dev/null 2>&1 && awk -F, 'NR == 2 { print $7 }' mse.csv; }
 "$bin/lt-bench-gradient-input" --width 48 --height 32 --noise 0.2 --gradient-noise 0.02 -o in.lts --truth truth.exr
 check "input made" '[ -s in.lts ] && [ -s truth.exr ]'
 
@@ -25,8 +32,8 @@ assert j[\"buffers\"][0][\"channels\"] == [\"R\", \"G\", \"B\"], j[\"buffers\"]
 "'
 # The primal alone: alpha so large that the result is the primal (relative weight 1e-8 on the gradients).
 "$bin/lt-reconstruct" in.lts --alpha 1e4 -o primal.exr -q
-el2=$("$bin/lt-error" l2.lts --ref truth.exr --metric mse --csv mse.csv > /dev/null 2>&1 && awk -F, 'NR == 2 { print $7 }' mse.csv)
-ep=$("$bin/lt-error" primal.exr --ref truth.exr --metric mse --csv mse.csv > /dev/null 2>&1 && awk -F, 'NR == 2 { print $7 }' mse.csv)
+el2=$(mse l2.lts truth.exr)
+ep=$(mse primal.exr truth.exr)
 # Gradients with a tenth of the primal's noise: the reconstruction must have much less error than the
 # primal (a factor 4 is a wide margin).
 check "L2 beats the primal ($el2 vs $ep)" 'awk -v a="$el2" -v b="$ep" "BEGIN { exit !(a > 0 && a < b / 4) }"'
@@ -38,15 +45,11 @@ check "L1: exit 0, EXR written, 5 IRLS steps" '[ $code -eq 0 ] && [ "$(magic l1.
 # Eigen CG on request gives the exact solve's image to its tolerance (relative residual 1e-5: an MSE
 # far below 1e-8 on values near 1) and is named in the statistics and the STAT table (solver code 3).
 out=$("$bin/lt-reconstruct" in.lts --solver eigen-cg -o cg.lts 2>&1); code=$?
-ecg=$("$bin/lt-error" cg.lts --ref l2.lts --metric mse --csv mse.csv > /dev/null 2>&1 && awk -F, 'NR == 2 { print $7 }' mse.csv)
+ecg=$(mse cg.lts l2.lts)
 check "eigen-cg: exit 0, named with its reason and residual, same image (mse $ecg)" '[ $code -eq 0 ] &&
   echo "$out" | grep -Eq "^lt-reconstruct: l2, alpha 0.2, 48x32: 3 solves with EIGEN_CG \(requested\), 3 iterations, [0-9]+ linear solver iterations, relative residual <= " &&
   awk -v e="$ecg" "BEGIN { exit !(e < 1e-8) }" &&
-  "$bin/lt-inspect" cg.lts --json | python3 -c "
-import json, sys
-t = [s for s in json.load(sys.stdin)[\"stats\"] if s[\"name\"] == \"reconstruct\"][0]
-assert dict(zip(t[\"rows\"], [r[0] for r in t[\"values\"]]))[\"solver\"] == 3
-"'
+  [ "$(stat_row cg.lts solver)" = 3 ]'
 # auto takes DCT for L2 and Eigen CG for L1 above 64x64 pixels and says why.
 "$bin/lt-bench-gradient-input" --width 80 --height 60 -o big.lts
 out=$("$bin/lt-reconstruct" big.lts -o big.exr 2>&1); code=$?
@@ -58,15 +61,11 @@ check "auto: eigen-cg for L1 above 4096 pixels" '[ $code -eq 0 ] &&
 # DCT on request: the exact solve's image (float output: MSE far below 1e-12 on values near 1), solver
 # code 4 in the STAT table.
 out=$("$bin/lt-reconstruct" in.lts --solver dct -o dct.lts 2>&1); code=$?
-edct=$("$bin/lt-error" dct.lts --ref l2.lts --metric mse --csv mse.csv > /dev/null 2>&1 && awk -F, 'NR == 2 { print $7 }' mse.csv)
+edct=$(mse dct.lts l2.lts)
 check "dct: exit 0, named, same image as Cholesky (mse $edct)" '[ $code -eq 0 ] &&
   echo "$out" | grep -Eq "^lt-reconstruct: l2, alpha 0.2, 48x32: 3 solves with DCT \(requested\), 3 iterations, 3 linear solver iterations, relative residual <= " &&
   awk -v e="$edct" "BEGIN { exit !(e < 1e-12) }" &&
-  "$bin/lt-inspect" dct.lts --json | python3 -c "
-import json, sys
-t = [s for s in json.load(sys.stdin)[\"stats\"] if s[\"name\"] == \"reconstruct\"][0]
-assert dict(zip(t[\"rows\"], [r[0] for r in t[\"values\"]]))[\"solver\"] == 4
-"'
+  [ "$(stat_row dct.lts solver)" = 4 ]'
 
 # The same input as a multi-layer EXR, as separate files (each file's primal, dx, dy layer) and on a pipe.
 "$bin/lt-image" in.lts -o layers.exr 2>/dev/null
@@ -75,7 +74,7 @@ assert dict(zip(t[\"rows\"], [r[0] for r in t[\"values\"]]))[\"solver\"] == 4
 "$bin/lt-reconstruct" - -o - -q < in.lts > piped.lts; c3=$?
 check "multi-layer EXR, separate files, pipe: exit 0" '[ $c1 -eq 0 ] && [ $c2 -eq 0 ] && [ $c3 -eq 0 ]'
 for f in from_exr.exr from_files.exr piped.lts; do
-  e=$("$bin/lt-error" "$f" --ref l2.lts --metric mse --csv mse.csv > /dev/null 2>&1 && awk -F, 'NR == 2 { print $7 }' mse.csv)
+  e=$(mse "$f" l2.lts)
   check "$f equals the buffer file's result (mse $e)" '[ "$e" = "0" ]'
 done
 

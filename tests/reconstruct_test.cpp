@@ -47,17 +47,12 @@ GradientImage exactInput(const RgbPlanes& truth, uint32_t w, uint32_t h) {
     return im;
 }
 
-double gaussian(Pcg32& rng) {
-    const double u = 1 - rng.nextDouble(), v = rng.nextDouble();
-    return std::sqrt(-2 * std::log(u)) * std::cos(2 * M_PI * v);
-}
-
 void addNoise(GradientImage& im, Pcg32& rng, double sigmaPrimal, double sigmaGradient) {
     for (size_t c = 0; c < 3; ++c)
         for (size_t p = 0; p < im.pixels(); ++p) {
-            im.primal[c][p] += float(sigmaPrimal * gaussian(rng));
-            im.dx[c][p] += float(sigmaGradient * gaussian(rng));
-            im.dy[c][p] += float(sigmaGradient * gaussian(rng));
+            im.primal[c][p] += float(sigmaPrimal * standardNormal(rng));
+            im.dx[c][p] += float(sigmaGradient * standardNormal(rng));
+            im.dy[c][p] += float(sigmaGradient * standardNormal(rng));
         }
 }
 
@@ -218,7 +213,7 @@ TEST_CASE("the image comes back from exact gradients when the primal only fixes 
         std::vector<double> n(plane.size());
         double mean = 0;
         for (auto& v : n) {
-            v = 0.1 * gaussian(rng);
+            v = 0.1 * standardNormal(rng);
             mean += v / double(n.size());
         }
         for (size_t p = 0; p < plane.size(); ++p)

@@ -3,7 +3,10 @@
 // on the thread count.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
+
+#include "math/constants.h"
 
 namespace lt {
 
@@ -62,5 +65,12 @@ public:
 private:
     uint64_t state_ = 0, inc_ = 0;
 };
+
+// A standard normal draw by Box-Muller (1 - u keeps the logarithm finite), for synthetic noise in tests
+// and benchmarks: the same numbers on every platform, unlike std::normal_distribution.
+[[nodiscard]] inline double standardNormal(Pcg32& rng) {
+    const double u = 1 - rng.nextDouble(), v = rng.nextDouble();
+    return std::sqrt(-2 * std::log(u)) * std::cos(TwoPi * v);
+}
 
 } // namespace lt

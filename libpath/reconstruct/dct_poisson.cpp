@@ -7,6 +7,7 @@
 #include <string>
 #include <type_traits>
 
+#include "math/constants.h"
 #include "math/error.h"
 
 namespace lt {
@@ -31,7 +32,7 @@ using Plan = std::unique_ptr<std::remove_pointer_t<fftw_plan>, PlanDeleter>;
 std::vector<double> pathLaplacianEigenvalues(uint32_t n) {
     std::vector<double> lambda(n);
     for (uint32_t k = 0; k < n; ++k)
-        lambda[k] = 2 - 2 * std::cos(M_PI * double(k) / double(n));
+        lambda[k] = 2 - 2 * std::cos(Pi * double(k) / double(n));
     return lambda;
 }
 

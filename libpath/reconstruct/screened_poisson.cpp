@@ -410,8 +410,9 @@ file::Buffer reconstructScreenedPoisson(const GradientImage& image, const Recons
     // the 1280x720 bench input (outliers 100) the same MSE (Eigen CG 1.55e-3 / 1.55e-3) and objective
     // (183039 / 183043). The primal's zero residuals get weight 1 / reg0 (20) against ~8 for a gradient
     // residual of the noise level, which does not pin the image to it.
-    if (!l1) solveChannels();
-    if (l1) {
+    if (!l1) {
+        solveChannels();
+    } else {
         double reg = settings.irlsRegularizer;
         for (int it = 0; it < settings.irlsIterations; ++it, reg *= settings.irlsDecay) {
             irlsWeights(image, x, settings.alpha, reg, weights);

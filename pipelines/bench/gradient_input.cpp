@@ -12,16 +12,6 @@
 #include "math/rng.h"
 #include "reconstruct/gradient_image.h"
 
-namespace {
-
-double gaussian(lt::Pcg32& rng) {
-    // Box-Muller; 1 - u keeps the logarithm finite.
-    const double u = 1 - rng.nextDouble(), v = rng.nextDouble();
-    return std::sqrt(-2 * std::log(u)) * std::cos(2 * M_PI * v);
-}
-
-} // namespace
-
 int main(int argc, char** argv) {
     CLI::App app{"lt-bench-gradient-input: a synthetic noisy primal and gradients (lt buffer file) for lt-reconstruct",
                  "lt-bench-gradient-input"};
@@ -61,9 +51,9 @@ int main(int argc, char** argv) {
         lt::RgbPlanes primal = truth;
         for (size_t c = 0; c < 3; ++c)
             for (size_t p = 0; p < N; ++p) {
-                primal[c][p] += float(noise * gaussian(rng));
-                dx[c][p] += float(gradientNoise * gaussian(rng));
-                dy[c][p] += float(gradientNoise * gaussian(rng));
+                primal[c][p] += float(noise * lt::standardNormal(rng));
+                dx[c][p] += float(gradientNoise * lt::standardNormal(rng));
+                dy[c][p] += float(gradientNoise * lt::standardNormal(rng));
                 if (outliers > 0 && rng.nextDouble() < outliers)
                     (rng.nextDouble() < 0.5 ? dx : dy)[c][p] =
                         float(rng.nextDouble() < 0.5 ? -outlierValue : outlierValue);

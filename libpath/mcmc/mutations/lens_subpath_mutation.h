@@ -3,8 +3,9 @@
 // and the specular chain in front of it) and trace a fresh one through a raster position uniform over the
 // sensor window: at each hit choose a delta lobe with its own probability and go on, or stop there with
 // the remaining probability (the new x_j', a vertex scattering through its non-delta lobes), then connect
-// x_j' to the unchanged x_{j-1}. The paper's method leaves the pixel choice to the mutation so the image
-// is covered evenly; lt draws it uniformly (no stratification across proposals).
+// x_j' to the unchanged x_{j-1}. Veach chose the pixels of successive lens-subpath mutations in a
+// stratified order, to cover the image evenly; lt draws each one uniformly, which keeps the mutation a
+// plain Metropolis-Hastings kernel with the density below.
 //
 // T in the measure of f: the new subpath is an eye random walk that stops by its own coin, so
 // T(x -> y) = (stripped eye densities of x_j' .. x_{k-1}', markov_path.h's densityFromEye) x P_stop(x_j'),

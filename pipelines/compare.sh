@@ -4,8 +4,7 @@
 # CSV against a reference, and a figure of the images side by side (full frame and an optional crop).
 #   pipelines/compare.sh SCENE --time SECONDS --methods "pt bdpt" [--ref REF.exr] [--crop X,Y,W,H]
 #                        [--out DIR] [-- options for every tool, e.g. --resolution 320x240 --threads 2]
-# Methods: pt, bdpt (lt-seed); mlt, pssmlt, mmlt (lt-mutate --space path | primary | multiplexed; mlt
-# seeds itself with BDPT inside its time). Methods of tools that do not exist yet are refused by name.
+# Methods: pipelines/lib/methods.bash (pt, bdpt, mlt, pssmlt, mmlt).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 bin="${BUILD_DIR:-$root/build}/bin"
@@ -29,29 +28,13 @@ done
 out="${out:-compare-$(basename "$(dirname "$scene")")}"
 mkdir -p "$out"
 
-# One line per method: how to render it for a given time. New tools plug in here.
-render() {
-  local method="$1" file="$2"
-  case "$method" in
-    pt|bdpt) "$bin/lt-seed" "$scene" --method "$method" --time "$time" --snapshots doubling -o "$file" -q "${extra[@]}" ;;
-    mlt|pssmlt|mmlt)
-      local space=path; [ "$method" = pssmlt ] && space=primary; [ "$method" = mmlt ] && space=multiplexed
-      "$bin/lt-mutate" "$scene" --space "$space" --time "$time" --snapshots doubling -o "$file" -q "${extra[@]}" ;;
-    memlt|hslt|portal|gpt|gdpr)
-      echo "$0: method '$method' needs a part that does not exist yet (manifold/half-vector/portal mutations, lt-gradient)" >&2; return 1 ;;
-    *) echo "$0: unknown method '$method' (known: pt bdpt mlt pssmlt mmlt)" >&2; return 1 ;;
-  esac
-}
-
-# Refuse unknown or not-yet-available methods before spending any time rendering.
-for m in $methods; do
-  case "$m" in pt|bdpt|mlt|pssmlt|mmlt) ;; *) render "$m" /dev/null || exit 1 ;; esac
-done
+source "$root/pipelines/lib/methods.bash"
+check_methods $methods || exit 1
 
 files=()
 for m in $methods; do
   echo "== $m for $time s"
-  render "$m" "$out/$m.lts"
+  render_method "$m" "$out/$m.lts" "$time" 0 "${extra[@]}"
   "$bin/lt-image" "$out/$m.lts" -o "$out/$m.exr" --png "$out/$m.png"
   files+=("$out/$m.lts")
 done

@@ -114,6 +114,17 @@ TEST_CASE("crop on a 3x1 image, alone and with trimming", "[error]") {
     CHECK(e.value == Approx(3 / 16.001));
 }
 
+TEST_CASE("scale to the reference: the factor of the means and the error left after it", "[error]") {
+    // The image is the reference (1, 2, 4 grey) times 2 plus (0, 0, 0.5) at the last pixel: over the whole
+    // image the sums are 21 and 42.5, so the scale is 21 / 42.5; over the crop of the first two pixels it
+    // is exactly 1/2, and the rescaled image there equals the reference.
+    const ErrorReference ref(rgbImage(3, 1, {{1, 1, 1}, {2, 2, 2}, {4, 4, 4}}), "ref.exr");
+    const auto img = rgbImage(3, 1, {{2, 2, 2}, {4, 4, 4}, {8, 8, 8.5f}});
+    CHECK(ref.scaleToReference(img, "img", {}) == Approx(21 / 42.5));
+    CHECK(ref.scaleToReference(img, "img", Crop{0, 0, 2, 1}) == Approx(0.5));
+    CHECK(std::isnan(ref.scaleToReference(rgbImage(3, 1, {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}), "black", {})));
+}
+
 TEST_CASE("a NaN in the image is the worst pixel: trimmed first, else it shows", "[error]") {
     const ErrorReference ref(rgbImage(3, 1, {{1, 1, 1}, {2, 2, 2}, {4, 4, 4}}), "ref.exr");
     const float nan = std::numeric_limits<float>::quiet_NaN();
@@ -152,8 +163,10 @@ TEST_CASE("error metrics reject bad inputs with one clear message", "[error]") {
     CHECK(test::errorOf([&] {
               (void)ref.error(kImg22, "img", {ErrorMetric::RelMSE, 1, {}});
           }) == "trim fraction 1.000000 is outside [0, 1)");
-    CHECK(test::errorOf([] { (void)parseCrop("1,2,3"); }) == "crop '1,2,3' is not X,Y,W,H (whole numbers, W and H > 0)");
-    CHECK(test::errorOf([] { (void)parseCrop("1,2,0,4"); }) == "crop '1,2,0,4' is not X,Y,W,H (whole numbers, W and H > 0)");
+    CHECK(test::errorOf([] { (void)parseCrop("1,2,3"); }) ==
+          "crop '1,2,3' is not X,Y,W,H (whole numbers, W and H > 0)");
+    CHECK(test::errorOf([] { (void)parseCrop("1,2,0,4"); }) ==
+          "crop '1,2,0,4' is not X,Y,W,H (whole numbers, W and H > 0)");
     CHECK(test::errorOf([] { (void)parseErrorMetric("psnr"); }) ==
           "unknown error metric 'psnr' (relmse, rrmse, mse, mape or smape)");
     const Crop c = parseCrop("1,2,3,4");
@@ -182,8 +195,12 @@ TEST_CASE("a buffer file gives one row per snapshot, then its final buffer", "[e
     CHECK(curve.rows[0].error.value == Approx(kRelMse22).epsilon(1e-6));
     // 1 / (error x time)
     CHECK(*curve.rows[0].efficiency() == Approx(1 / (kRelMse22 * 1.0)).epsilon(1e-6));
+    // Sums of R + G + B: reference 15, image 17.1.
+    CHECK(curve.rows[0].scale == Approx(15 / 17.1));
     CHECK(curve.rows[1].label == "SNAP 2 of 2");
     CHECK(curve.rows[1].error.value == 0);
+    CHECK(curve.rows[1].scale == Approx(1));
+    CHECK(curve.rows[1].rescaledError.value == 0);
     // The final buffer's time and samples come from the STAT table "run".
     CHECK(curve.rows[2].label == "BUFR");
     CHECK(curve.rows[2].wallSeconds == 2.5);

@@ -232,7 +232,7 @@ TEST_CASE("path-space chains visit a tiny path space in proportion to f*", "[mcm
             }
         };
         SampleFilm film(camera);
-        const auto stats = runPathSpaceChains(*scene, seeds, mix, run, film, {}, nullptr, {}, dump);
+        const auto stats = runPathSpaceChains(*scene, seeds, mix, run, bdpt, 0, film, {}, nullptr, {}, dump);
         REQUIRE(stats.mutations == run.mutations);
         REQUIRE(stats.health.nonFinite == 0);
         CHECK(elsewhere == 0);

@@ -107,12 +107,13 @@ std::string exact(std::optional<double> v) {
 std::string exact(std::optional<uint64_t> v) { return v ? std::to_string(*v) : ""; }
 
 void writeCsv(std::ostream& out, const std::vector<lt::ErrorCurve>& curves, const std::string& metric) {
-    out << "input,label,time,cpu_time,samples,metric,error,efficiency\n";
+    out << "input,label,time,cpu_time,samples,metric,error,efficiency,scale,error_rescaled\n";
     for (const auto& c : curves)
         for (const auto& r : c.rows)
             out << csvField(c.name) << ',' << csvField(r.label) << ',' << exact(r.wallSeconds) << ','
                 << exact(r.cpuSeconds) << ',' << exact(r.samples) << ',' << metric << ','
-                << exact(std::optional(r.error.value)) << ',' << exact(r.efficiency()) << '\n';
+                << exact(std::optional(r.error.value)) << ',' << exact(r.efficiency()) << ','
+                << exact(std::optional(r.scale)) << ',' << exact(std::optional(r.rescaledError.value)) << '\n';
 }
 
 nlohmann::json toJson(const std::vector<lt::ErrorCurve>& curves, const std::string& metric, const std::string& ref,
@@ -130,6 +131,8 @@ nlohmann::json toJson(const std::vector<lt::ErrorCurve>& curves, const std::stri
                                  {"samples", opt(r.samples)},
                                  {"error", r.error.value},
                                  {"efficiency", opt(r.efficiency())},
+                                 {"scale", std::isfinite(r.scale) ? nlohmann::json(r.scale) : nlohmann::json(nullptr)},
+                                 {"error_rescaled", r.rescaledError.value},
                                  {"pixels", r.error.pixels},
                                  {"trimmed", r.error.trimmed}});
     return j;
@@ -143,12 +146,15 @@ std::string shortNumber(std::optional<double> v, const char* format) {
 }
 
 void printTable(std::ostream& out, const std::vector<lt::ErrorCurve>& curves, const std::string& metric) {
-    std::vector<std::vector<std::string>> cells{{"input", "image", "time [s]", "samples", metric, "efficiency"}};
+    std::vector<std::vector<std::string>> cells{
+        {"input", "image", "time [s]", "samples", metric, "efficiency", "scale", metric + " rescaled"}};
     for (const auto& c : curves)
         for (const auto& r : c.rows)
             cells.push_back({c.name, r.label, shortNumber(r.wallSeconds, "%.4g"),
                              r.samples ? std::to_string(*r.samples) : "-",
-                             shortNumber(std::optional(r.error.value), "%.5g"), shortNumber(r.efficiency(), "%.5g")});
+                             shortNumber(std::optional(r.error.value), "%.5g"), shortNumber(r.efficiency(), "%.5g"),
+                             shortNumber(std::optional(r.scale), "%.4f"),
+                             shortNumber(std::optional(r.rescaledError.value), "%.5g")});
     std::vector<size_t> width(cells[0].size(), 0);
     for (const auto& row : cells)
         for (size_t i = 0; i < row.size(); ++i)
@@ -213,7 +219,9 @@ void plot(const std::string& csvPath, const std::string& pngPath, const std::str
 int main(int argc, char** argv) {
     CLI::App app{"lt-error: the error of renders against a reference. Every snapshot of a buffer file is measured, "
                  "then its final buffer, so one run gives an error-against-time curve; EXR inputs give one row "
-                 "without a time. Efficiency is 1 / (error x wall time).",
+                 "without a time. Efficiency is 1 / (error x wall time). Scale is the factor that brings the image's "
+                 "mean (over the crop) to the reference's, and the rescaled error is the error of the image times that "
+                 "factor: what is left once the scale is right (a Markov chain's normalization b shows as scale).",
                  "lt-error"};
     std::vector<std::string> inputs;
     std::string refPath, metricName = "relmse", cropText, csvOut, plotOut, mapOut;

@@ -23,16 +23,18 @@ int main(int argc, char** argv) {
                  "path-space MLT: chains of whole paths started from seed paths (a file from lt-seed --paths, or a "
                  "BDPT start-up of its own), mutated by --strategies. --space primary is Kelemen's primary-sample-"
                  "space MLT over BDPT (every (s,t) strategy of a sample accepted or rejected together); --space "
-                 "multiplexed is Hachisuka's multiplexed MLT (one (s,t) strategy per sample, chosen by the chain, "
-                 "chains grouped by path length). Chains start from a start-up run that estimates the normalization "
-                 "b and picks their first states in proportion to the target (start-up bias removal). Same seed and "
+                 "multiplexed is Hachisuka's multiplexed MLT (one (s,t) strategy per sample, chosen by the chain; the "
+                 "path length is part of the state, changed by large steps). Chains start from a start-up run that "
+                 "first estimates the normalization b and picks their first states in proportion to the target "
+                 "(start-up bias removal); b keeps being refined during the run (large steps, --refine-b) and the "
+                 "image is scaled by it at every snapshot and at the end. Same seed and "
                  "mutation count give a bit-identical image whatever the thread count. Prints per-strategy "
                  "statistics and stores them in the output. Ctrl-C stops early and still writes a valid file.",
                  "lt-mutate"};
     std::string scenePath, seedsPath, out, space = "path", resolution, snapshotTimes, snapshotMutations,
                                            strategies = "auto", dumpPaths;
-    uint64_t mutations = 0, seed = 0, startupSamples = 100000;
-    double timeLimit = 0, mutationsPerPixel = 0, largeStep = 0.3;
+    uint64_t mutations = 0, seed = 0, startupSamples = 0;
+    double timeLimit = 0, mutationsPerPixel = 0, largeStep = 0.3, refineB = 1.0 / 16;
     int chains = 256, threads = 0, maxDepth = -2, unbounded = 12, round = 64;
     size_t dumpEvery = 0;
     bool quiet = false;
@@ -68,9 +70,14 @@ int main(int argc, char** argv) {
     app.add_option("--large-step", largeStep, "probability of a large step (default 0.3, Mitsuba's)")
         ->check(CLI::Range(0.0, 1.0));
     app.add_option("--startup-samples", startupSamples,
-                   "independent samples that estimate b and seed the chains (default 100000; multiplexed: spread "
-                   "over the path lengths; path space without a seed file: BDPT samples)")
+                   "independent samples that first estimate b and seed the chains (default 100000; multiplexed: per "
+                   "path length, default 20000; path space without a seed file: BDPT samples)")
         ->check(CLI::PositiveNumber);
+    app.add_option("--refine-b", refineB,
+                   "path space: independent BDPT samples per mutation that keep refining b during the run (default "
+                   "0.0625, one per 16 mutations of a chain; 0 keeps the seed run's b). The primary spaces refine b "
+                   "with their large steps")
+        ->check(CLI::Range(0.0, 1.0));
     app.add_option("--round", round,
                    "mutations per chain between merges (default 64; sets the granularity of "
                    "snapshots, not the estimate)")
@@ -98,11 +105,14 @@ int main(int argc, char** argv) {
                             " has its own (large and small steps, --large-step)");
         if (space == "path" && (app.count("--large-step") || app.count("--max-length-unbounded")))
             throw lt::Error("--large-step and --max-length-unbounded are for --space primary and multiplexed");
+        if (space != "path" && app.count("--refine-b"))
+            throw lt::Error("--refine-b is for --space path; the primary spaces refine b with their large steps");
         const int bounds = (mutations > 0) + (mutationsPerPixel > 0);
         if (bounds > 1) throw lt::Error("give --mutations or --mutations-per-pixel, not both");
         if (bounds == 0 && !(timeLimit > 0)) throw lt::Error("give --mutations, --mutations-per-pixel or --time");
         if (!snapshotTimes.empty() && !snapshotMutations.empty())
             throw lt::Error("give --snapshots or --snapshot-mutations, not both");
+        if (startupSamples == 0) startupSamples = space == "multiplexed" ? 20000 : 100000;
         auto scene = lt::tool::loadSceneWithOptions("lt-mutate", scenePath, defines, resolution, quiet);
 
         // Seeds are path-space states: path-space chains start from them; the primary spaces start from
@@ -113,15 +123,8 @@ int main(int argc, char** argv) {
             auto content = lt::file::readAll(seedsPath, lt::file::FileKind::Paths);
             const std::string name = seedsPath == "-" ? "<stdin>" : seedsPath;
             lt::file::checkSceneHash(content.info, scene->contentHash, name, scenePath);
-            for (const auto& t : content.stats)
-                if (t.name == "normalization")
-                    for (size_t r = 0; r < t.rows.size(); ++r)
-                        if (t.rows[r] == "b" && !t.values[r].empty()) seedB = t.values[r][0];
-            if (!(seedB >= 0))
-                throw lt::Error(name +
-                                ": no normalization b (STAT \"normalization\"); was it written by lt-seed --paths?");
-            seeds.paths = std::move(content.paths);
-            seeds.b = seedB;
+            seeds = lt::seedsFromFile(std::move(content), name);
+            seedB = seeds.b.b();
             if (space != "path" && !quiet)
                 std::cerr << "lt-mutate: --space " << space << " starts its chains from its own start-up samples; the "
                           << seeds.paths.size() << " seed paths are for --space path (their b = " << seedB << ")\n";
@@ -174,6 +177,7 @@ int main(int argc, char** argv) {
         if (pathSpace) {
             params.erase("large_step");
             params.erase("small_step");
+            params["refine_b"] = refineB;
             if (!seeds.paths.empty()) params.erase("startup_samples");
             choice = lt::chooseStrategies(strategies, lt::analyzeScene(*scene));
             nlohmann::json list = nlohmann::json::array();
@@ -218,13 +222,13 @@ int main(int argc, char** argv) {
             }
             progress.update(p.fraction, d.str());
         };
-        const lt::ChainSnapshotCallback onSnapshot = [&](const lt::ChainRunProgress& p, const lt::SampleFilm& f) {
+        const lt::ChainSnapshotCallback onSnapshot = [&](const lt::ChainRunProgress& p, const lt::file::Buffer& image) {
             lt::file::Snapshot snap;
             snap.wallSeconds = p.wallSeconds;
             snap.cpuSeconds = p.cpuSeconds;
             snap.samples = p.mutations;
             snap.overheadSeconds = p.snapshotSeconds;
-            snap.buffer = f.toBuffer();
+            snap.buffer = image;
             writer.writeSnapshot(snap);
         };
         lt::ChainRunStats stats;
@@ -236,14 +240,14 @@ int main(int argc, char** argv) {
                 seeds = lt::seedWithBdpt(*scene, ps.bdpt, startupSamples, size_t(std::max(4 * chains, 1024)),
                                          seed ^ 0x5eedULL, threads, &lt::tool::stopRequested());
                 if (!quiet)
-                    std::cerr << "lt-mutate: seeded with BDPT (" << startupSamples << " samples): b = " << seeds.b
+                    std::cerr << "lt-mutate: seeded with BDPT (" << startupSamples << " samples): b = " << seeds.b.b()
                               << '\n';
             }
             std::vector<std::unique_ptr<lt::Mutation>> owned;
             std::vector<lt::WeightedMutation> mix;
             lt::makeMutations(choice, *scene, maxEdges, owned, mix);
-            stats = lt::runPathSpaceChains(*scene, seeds, mix, rs, film, onProgress, &lt::tool::stopRequested(),
-                                           onSnapshot, dump);
+            stats = lt::runPathSpaceChains(*scene, seeds, mix, rs, ps.bdpt, refineB, film, onProgress,
+                                           &lt::tool::stopRequested(), onSnapshot, dump);
             if (dumpWriter) dumpWriter->finish();
         } else {
             stats = lt::runPrimarySpaceChains(*scene, ps, rs, film, onProgress, &lt::tool::stopRequested(), onSnapshot);
@@ -253,7 +257,8 @@ int main(int argc, char** argv) {
             std::cerr << "lt-mutate: warning: the start-up took " << formatSeconds(stats.startupSeconds)
                       << ", longer than --time; the chains ran one round (lower --startup-samples)\n";
 
-        writer.writeBuffer(film.toBuffer());
+        const lt::NormalizationEstimate& b = stats.normalization;
+        writer.writeBuffer(film.toBuffer(b.b()));
         writer.writeStats(lt::tool::valueTable("run", {{"mutations", double(stats.mutations)},
                                                        {"mutations_per_pixel", double(stats.mutations) / pixels},
                                                        {"chains", double(chains)},
@@ -265,37 +270,58 @@ int main(int argc, char** argv) {
                                                        {"interrupted", stats.interrupted ? 1.0 : 0.0},
                                                        {"snapshots", double(stats.snapshots)},
                                                        {"snapshot_seconds", stats.snapshotSeconds}}));
-        std::vector<std::pair<std::string, double>> norm = {{"b", stats.b},
+        std::vector<std::pair<std::string, double>> norm = {{"b", b.b()},
+                                                            {"b_relative_standard_error", b.relativeStandardError()},
+                                                            {"b_samples", double(b.samples())},
                                                             {"startup_samples", double(stats.startupSamples)}};
         if (pathSpace) norm.emplace_back("unusable_seeds", double(stats.unusableSeeds));
         if (seedB >= 0) norm.emplace_back("b_seed_file", seedB);
         writer.writeStats(lt::tool::valueTable("normalization", norm));
         writer.writeStats(stats.strategies.table());
         if (!pathSpace && ps.space == lt::PrimarySpace::Multiplexed) {
-            lt::file::StatTable lengths{"path_lengths", {"b", "chains"}, {}, {}};
-            for (size_t k = 1; k < stats.bPerLength.size(); ++k) {
+            lt::file::StatTable lengths{
+                "path_lengths", {"b", "b_standard_error", "b_samples", "chains_started", "mutations"}, {}, {}};
+            for (size_t k = 1; k < b.strata(); ++k) {
                 lengths.rows.push_back(std::to_string(k) + " edges");
-                lengths.values.push_back({stats.bPerLength[k], double(stats.chainsPerLength[k])});
+                lengths.values.push_back({b.stratumB(k), b.stratumStandardError(k), double(b.stratumSamples(k)),
+                                          double(stats.chainsPerLength[k]), double(stats.mutationsPerLength[k])});
             }
             writer.writeStats(lengths);
         }
         writer.finish();
 
         if (!quiet) {
+            std::cerr << "lt-mutate: b = " << b.b() << " +- " << std::setprecision(2) << 100 * b.relativeStandardError()
+                      << "% from " << b.samples() << " samples (" << stats.startupSamples
+                      << (pathSpace ? " of the seed run" : " of the start-up") << ", "
+                      << b.samples() - stats.startupSamples << " during the run)" << std::setprecision(6);
             if (pathSpace)
-                std::cerr << "lt-mutate: b = " << stats.b << ", chains started from " << stats.startupSamples
-                          << " seed paths (" << stats.unusableSeeds << " unusable draws skipped)\n";
-            else
-                std::cerr << "lt-mutate: b = " << stats.b << " from " << stats.startupSamples << " start-up samples ("
-                          << formatSeconds(stats.startupSeconds) << ")\n";
-            std::cerr << stats.strategies.text();
+                std::cerr << "; chains started from " << seeds.paths.size() << " seed paths (" << stats.unusableSeeds
+                          << " unusable draws skipped)";
+            std::cerr << '\n' << stats.strategies.text();
             if (!pathSpace && ps.space == lt::PrimarySpace::Multiplexed) {
-                std::cerr << "chains per path length (edges: chains, share of b):";
-                for (size_t k = 1; k < stats.bPerLength.size(); ++k)
-                    if (stats.chainsPerLength[k] > 0)
-                        std::cerr << "  " << k << ": " << stats.chainsPerLength[k] << ", " << std::setprecision(3)
-                                  << 100 * stats.bPerLength[k] / stats.b << "%";
-                std::cerr << '\n';
+                std::cerr << "path lengths (edges: share of b +- standard error, share of the mutations, chains "
+                             "started there):\n";
+                // Lengths with under 0.01 % of b and of the mutations are summed in one line.
+                double restB = 0, restMutations = 0;
+                size_t rest = 0;
+                for (size_t k = 1; k < b.strata(); ++k) {
+                    const double shareB = b.stratumB(k) / b.b();
+                    const double shareM =
+                        double(stats.mutationsPerLength[k]) / double(std::max<uint64_t>(1, stats.mutations));
+                    if (shareB < 1e-4 && shareM < 1e-4) {
+                        restB += shareB;
+                        restMutations += shareM;
+                        ++rest;
+                        continue;
+                    }
+                    std::cerr << "  " << std::setw(2) << k << ": " << std::setprecision(3) << std::setw(6)
+                              << 100 * shareB << "% +- " << std::setw(6) << 100 * b.stratumStandardError(k) / b.b()
+                              << "%, " << std::setw(6) << 100 * shareM << "%, " << stats.chainsPerLength[k] << '\n';
+                }
+                if (rest)
+                    std::cerr << "  " << rest << " other lengths, each under 0.01 %: " << std::setprecision(2)
+                              << 100 * restB << "% of b, " << 100 * restMutations << "% of the mutations together\n";
             }
             std::cerr << "lt-mutate: " << (stats.interrupted ? "interrupted after " : "") << std::setprecision(4)
                       << double(stats.mutations) / pixels << " mutations/pixel in " << formatSeconds(stats.wallSeconds)

@@ -4,6 +4,7 @@
 #include <array>
 #include <charconv>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <variant>
 
@@ -204,6 +205,21 @@ ImageError ErrorReference::error(const file::Buffer& image, const std::string& i
     return aggregatePixelErrors(pixelErrors(image, imageName, options.metric), image.width, image.height, options);
 }
 
+double ErrorReference::scaleToReference(const file::Buffer& image, const std::string& imageName,
+                                        const std::optional<Crop>& crop) const {
+    const auto in = rgbPlanes(image, imageName);
+    const auto ref = rgbPlanes(reference_, name_);
+    const Crop c = crop.value_or(Crop{0, 0, image.width, image.height});
+    double sumIn = 0, sumRef = 0;
+    for (uint32_t y = c.y; y < c.y + c.height && y < image.height; ++y)
+        for (uint32_t x = c.x; x < c.x + c.width && x < image.width; ++x)
+            for (size_t k = 0; k < 3; ++k) {
+                sumIn += (*in[k])[size_t(y) * image.width + x];
+                sumRef += (*ref[k])[size_t(y) * image.width + x];
+            }
+    return sumIn > 0 ? sumRef / sumIn : std::numeric_limits<double>::quiet_NaN();
+}
+
 std::optional<double> ErrorRow::efficiency() const {
     if (!wallSeconds) return std::nullopt;
     return 1 / (error.value * *wallSeconds);
@@ -211,20 +227,36 @@ std::optional<double> ErrorRow::efficiency() const {
 
 ErrorCurve measureErrorCurve(const std::string& path, const ErrorReference& reference, const ErrorOptions& options) {
     ErrorCurve curve;
-    // Measures one estimate and keeps its per-pixel terms as the latest "final" image.
-    auto measure = [&](const file::Buffer& buffer, const std::string& name) {
+    const auto makeRow = [](std::string label) {
+        ErrorRow row;
+        row.label = std::move(label);
+        return row;
+    };
+    // Measures one estimate into `row` (as is and rescaled to the reference's mean) and keeps its per-pixel
+    // terms as the latest "final" image.
+    auto measure = [&](ErrorRow row, const file::Buffer& buffer, const std::string& name) {
         std::vector<double> terms = reference.pixelErrors(buffer, name, options.metric);
-        const ImageError e = aggregatePixelErrors(terms, buffer.width, buffer.height, options);
+        row.error = aggregatePixelErrors(terms, buffer.width, buffer.height, options);
         curve.finalErrors = std::move(terms);
         curve.width = buffer.width;
         curve.height = buffer.height;
-        return e;
+        row.scale = reference.scaleToReference(buffer, name, options.crop);
+        if (std::isfinite(row.scale)) {
+            file::Buffer rescaled = buffer;
+            for (auto& plane : rescaled.planes)
+                for (auto& v : plane)
+                    v = float(v * row.scale);
+            row.rescaledError = reference.error(rescaled, name, options);
+        } else {
+            row.rescaledError = row.error;
+        }
+        return row;
     };
 
     if (path != "-" && isExrFile(path)) {
         const BufferSource source = loadBuffer(path);
         curve.name = source.name;
-        curve.rows.push_back({"EXR", std::nullopt, std::nullopt, std::nullopt, measure(source.buffer, source.name)});
+        curve.rows.push_back(measure(makeRow("EXR"), source.buffer, source.name));
         return curve;
     }
 
@@ -241,13 +273,17 @@ ErrorCurve measureErrorCurve(const std::string& path, const ErrorReference& refe
         if (std::holds_alternative<file::End>(chunk)) break;
         if (const auto* s = std::get_if<file::Snapshot>(&chunk)) {
             ++snapshots;
-            curve.rows.push_back({"SNAP " + std::to_string(snapshots), s->wallSeconds, s->cpuSeconds, s->samples,
-                                  measure(s->buffer, curve.name + " (snapshot " + std::to_string(snapshots) + ")")});
+            ErrorRow row = makeRow("SNAP " + std::to_string(snapshots));
+            row.wallSeconds = s->wallSeconds;
+            row.cpuSeconds = s->cpuSeconds;
+            row.samples = s->samples;
+            curve.rows.push_back(
+                measure(std::move(row), s->buffer, curve.name + " (snapshot " + std::to_string(snapshots) + ")"));
             lastSnapshotErrors = curve.finalErrors;
         } else if (const auto* b = std::get_if<file::Buffer>(&chunk)) {
             // One BUFR per file (SPEC.md "SNAP"); should there be more, the last is the result, as for
             // every tool that develops a file.
-            final = ErrorRow{"BUFR", std::nullopt, std::nullopt, std::nullopt, measure(*b, curve.name)};
+            final = measure(makeRow("BUFR"), *b, curve.name);
             finalErrors = curve.finalErrors;
         } else if (auto* t = std::get_if<file::StatTable>(&chunk)) {
             stats.push_back(std::move(*t));

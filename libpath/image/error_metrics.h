@@ -59,6 +59,12 @@ public:
     // The metric over the crop (checked against the image size) without the trimmed pixels.
     [[nodiscard]] ImageError error(const file::Buffer& image, const std::string& imageName,
                                    const ErrorOptions& options) const;
+    // The factor that brings the image's mean over the crop (R + G + B) to the reference's: 1 for an image
+    // whose scale is right. A Markov chain's image carries its normalization's error as such a factor,
+    // so the metric of the rescaled image is the error that is not scale (lt-error's "rescaled" column).
+    // NaN for an image whose crop mean is not positive.
+    [[nodiscard]] double scaleToReference(const file::Buffer& image, const std::string& imageName,
+                                          const std::optional<Crop>& crop) const;
 
     [[nodiscard]] const file::Buffer& buffer() const { return reference_; }
     [[nodiscard]] const std::string& name() const { return name_; }
@@ -81,6 +87,8 @@ struct ErrorRow {
     std::optional<double> cpuSeconds;
     std::optional<uint64_t> samples; // samples (or mutations) so far
     ImageError error;
+    double scale = 1;         // ErrorReference::scaleToReference
+    ImageError rescaledError; // the metric of the image times `scale`
     // 1 / (error x wall time) ([GDPR] Sec. 5, after Veach 1998); unknown without a time.
     [[nodiscard]] std::optional<double> efficiency() const;
 };

@@ -47,7 +47,8 @@ void SampleFilm::merge(const TileResult& tile) {
         for (int x = tile.rect.x0; x < tile.rect.x1; ++x) {
             const size_t src = size_t(y - tile.rect.y0) * size_t(tile.rect.width()) + size_t(x - tile.rect.x0);
             const size_t dst = size_t(y - window_.y0) * size_t(width()) + size_t(x - window_.x0);
-            for (int c = 0; c < 3; ++c) sum_[3 * dst + size_t(c)] += tile.sum[3 * src + size_t(c)];
+            for (int c = 0; c < 3; ++c)
+                sum_[3 * dst + size_t(c)] += tile.sum[3 * src + size_t(c)];
             count_[dst] += tile.count[src];
             cameraSamples_ += tile.count[src];
         }
@@ -60,7 +61,8 @@ void SampleFilm::addSplat(const TileResult::Splat& s, int rowLo, int rowHi) {
     forEachPixel(
         s.raster,
         [&](size_t dst, double w) {
-            for (int c = 0; c < 3; ++c) splat_[3 * dst + size_t(c)] += w * s.value[c];
+            for (int c = 0; c < 3; ++c)
+                splat_[3 * dst + size_t(c)] += w * s.value[c];
         },
         rowLo, rowHi);
 }
@@ -86,10 +88,10 @@ void SampleFilm::mergeSplats(const std::vector<const std::vector<TileResult::Spl
     lightPaths_ += lightPaths;
 }
 
-std::vector<float> SampleFilm::develop() const {
+std::vector<float> SampleFilm::develop(double splatScale) const {
     std::vector<float> out(window_.area() * 3, 0.0f);
     // Light paths per pixel: the splat estimator of a pixel sums over all light paths of the image.
-    const double splatScale = lightPaths_ > 0 ? double(window_.area()) / double(lightPaths_) : 0.0;
+    splatScale *= lightPaths_ > 0 ? double(window_.area()) / double(lightPaths_) : 0.0;
     for (size_t i = 0; i < window_.area(); ++i)
         for (size_t c = 0; c < 3; ++c) {
             const double cam = count_[i] > 0 ? sum_[3 * i + c] / count_[i] : 0.0;
@@ -98,15 +100,16 @@ std::vector<float> SampleFilm::develop() const {
     return out;
 }
 
-file::Buffer SampleFilm::toBuffer() const {
+file::Buffer SampleFilm::toBuffer(double splatScale) const {
     file::Buffer b;
     b.width = uint32_t(width());
     b.height = uint32_t(height());
     b.channels = {"R", "G", "B"};
-    const std::vector<float> rgb = develop();
+    const std::vector<float> rgb = develop(splatScale);
     b.planes.assign(3, std::vector<float>(window_.area()));
     for (size_t i = 0; i < window_.area(); ++i)
-        for (size_t c = 0; c < 3; ++c) b.planes[c][i] = rgb[3 * i + c];
+        for (size_t c = 0; c < 3; ++c)
+            b.planes[c][i] = rgb[3 * i + c];
     b.sampleCounts = count_;
     // Buffers of independent runs average by their work: camera samples, or for a splat-only film (the
     // Markov chains) the number of mutations.

@@ -20,7 +20,7 @@
 namespace lt {
 
 struct PixelRect {
-    int x0 = 0, y0 = 0, x1 = 0, y1 = 0;   // [x0, x1) x [y0, y1), in full-film pixel coordinates
+    int x0 = 0, y0 = 0, x1 = 0, y1 = 0; // [x0, x1) x [y0, y1), in full-film pixel coordinates
     [[nodiscard]] int width() const { return x1 - x0; }
     [[nodiscard]] int height() const { return y1 - y0; }
     [[nodiscard]] size_t area() const { return size_t(width()) * size_t(height()); }
@@ -29,14 +29,14 @@ struct PixelRect {
 // What one piece of work (a tile, some samples per pixel) produced.
 struct TileResult {
     PixelRect rect;
-    std::vector<double> sum;        // 3 per pixel of rect: sum of camera estimates
-    std::vector<uint32_t> count;    // camera samples per pixel of rect
+    std::vector<double> sum;     // 3 per pixel of rect: sum of camera estimates
+    std::vector<uint32_t> count; // camera samples per pixel of rect
     struct Splat {
         Vec2 raster;
         Spectrum value;
     };
-    std::vector<Splat> splats;      // anywhere on the film
-    uint64_t lightPaths = 0;        // light subpaths traced (one per camera sample for BDPT)
+    std::vector<Splat> splats; // anywhere on the film
+    uint64_t lightPaths = 0;   // light subpaths traced (one per camera sample for BDPT)
 };
 
 class SampleFilm {
@@ -65,15 +65,17 @@ public:
     // weighted by its inverse.
     [[nodiscard]] double filterSum(const Vec2& raster) const;
 
-    // The current estimate, RGB float, rows top to bottom, crop window only.
-    [[nodiscard]] std::vector<float> develop() const;
+    // The current estimate, RGB float, rows top to bottom, crop window only. `splatScale` multiplies the
+    // splats: the Markov chains splat with b = 1 and give their current estimate of b here, when the film
+    // is read (mcmc/normalization.h).
+    [[nodiscard]] std::vector<float> develop(double splatScale = 1) const;
     // Camera samples per pixel (crop window).
     [[nodiscard]] const std::vector<uint32_t>& sampleCounts() const { return count_; }
     [[nodiscard]] uint64_t lightPaths() const { return lightPaths_; }
     [[nodiscard]] uint64_t cameraSamples() const { return cameraSamples_; }
     // The developed image as a file buffer: channels R, G, B, per-pixel sample counts, and the number of
     // camera samples as its merge weight (buffers of independent runs average by it).
-    [[nodiscard]] file::Buffer toBuffer() const;
+    [[nodiscard]] file::Buffer toBuffer(double splatScale = 1) const;
 
 private:
     // The stored rows [first, last] whose pixels' filter supports can contain the raster position (first >
@@ -81,8 +83,7 @@ private:
     [[nodiscard]] std::pair<int, int> rowsAround(const Vec2& raster) const;
     // Calls f(index, h_j) for every stored pixel j whose filter support contains the raster position, in
     // the rows [rowLo, rowHi) only.
-    template <class F>
-    void forEachPixel(const Vec2& raster, F&& f, int rowLo = INT_MIN, int rowHi = INT_MAX) const;
+    template <class F> void forEachPixel(const Vec2& raster, F&& f, int rowLo = INT_MIN, int rowHi = INT_MAX) const;
     // A splat spread over the pixels of rows [rowLo, rowHi) it reaches.
     void addSplat(const TileResult::Splat& s, int rowLo, int rowHi);
 

@@ -44,7 +44,7 @@ void ChainRunner::assignQuotas(std::vector<std::unique_ptr<MarkovChain>>& chains
         chains[c]->quota = run_.mutations > 0 ? run_.mutations / n + (c < run_.mutations % n) : ~uint64_t(0);
 }
 
-void ChainRunner::run(std::vector<std::unique_ptr<MarkovChain>>& chains, double scale, ChainRunStats& stats,
+void ChainRunner::run(std::vector<std::unique_ptr<MarkovChain>>& chains, ChainRunStats& stats,
                       const std::function<void(MarkovChain&)>& afterRound) {
     const int threads = run_.threads > 0 ? run_.threads : tbb::this_task_arena::max_concurrency();
     tbb::task_arena arena(threads);
@@ -63,7 +63,7 @@ void ChainRunner::run(std::vector<std::unique_ptr<MarkovChain>>& chains, double 
             stats.interrupted = true;
             break;
         }
-        std::vector<ChainImage> images(chains.size(), ChainImage(scale));
+        std::vector<ChainImage> images(chains.size(), ChainImage(1 / pixels));
         std::vector<uint64_t> done(chains.size(), 0);
         arena.execute([&] {
             tbb::parallel_for(size_t(0), chains.size(), [&](size_t c) {
@@ -81,6 +81,7 @@ void ChainRunner::run(std::vector<std::unique_ptr<MarkovChain>>& chains, double 
         for (size_t c = 0; c < chains.size(); ++c) {
             splats.push_back(&images[c].splats());
             roundMutations += done[c];
+            stats.normalization.take(chains[c]->normalization);
             if (afterRound) afterRound(*chains[c]);
         }
         arena.execute([&] { film_.mergeSplats(splats, roundMutations); });
@@ -96,8 +97,9 @@ void ChainRunner::run(std::vector<std::unique_ptr<MarkovChain>>& chains, double 
             p.wallSeconds = wall;
             p.cpuSeconds = cpuSeconds() - cpuStart_;
             p.snapshotSeconds = snapshotSeconds_;
+            p.b = stats.normalization.b();
             const auto s0 = std::chrono::steady_clock::now();
-            snapshot_(p, film_);
+            snapshot_(p, film_.toBuffer(p.b));
             ++stats.snapshots;
             snapshotSeconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - s0).count();
         }

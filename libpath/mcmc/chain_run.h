@@ -6,6 +6,10 @@
 // the film in chain order after each round. A given seed and mutation count therefore give the same
 // film whatever the number of threads, and a time limit, a snapshot or Ctrl-C takes effect at the end of
 // a round, when every chain's credit has been flushed: the film is then a complete estimate.
+//
+// Normalization: chains splat with b = 1 and add independent samples of b to their own
+// NormalizationEstimate as they run; after each round the runner takes them in chain order, and a
+// snapshot or the end of the run scales the film by the estimate as it then stands (mcmc/normalization.h).
 #pragma once
 
 #include <atomic>
@@ -19,6 +23,7 @@
 #include "image/film.h"
 #include "image/snapshot_schedule.h"
 #include "mcmc/metropolis.h"
+#include "mcmc/normalization.h"
 #include "mcmc/mutation_statistics.h"
 #include "sampling/bdpt.h"
 
@@ -45,17 +50,21 @@ struct ChainRunProgress {
     double wallSeconds = 0;      // since the start, snapshot writing excluded
     double cpuSeconds = 0;
     double snapshotSeconds = 0;
+    double b = 0; // the normalization's estimate at that moment
 };
 
 struct ChainRunStats {
     uint64_t mutations = 0;
     double wallSeconds = 0, cpuSeconds = 0, startupSeconds = 0;
     uint64_t rays = 0;
-    double b = 0;                     // the normalization used: integral of f* over the image
-    std::vector<double> bPerLength;   // multiplexed: b of each path length (index = edges)
-    std::vector<int> chainsPerLength; // multiplexed: chains given to each path length
-    uint64_t startupSamples = 0;      // start-up samples (primary spaces) or seed paths (path space)
-    uint64_t unusableSeeds = 0;       // path space: seed draws that did not re-create in the scene
+    // The normalization b (integral of f* over the image) with which the film was read at the end, from
+    // the start-up's samples and those added during the run (multiplexed: one stratum per path length,
+    // index = edges).
+    NormalizationEstimate normalization;
+    uint64_t startupSamples = 0; // samples of b the start-up drew (path space: of the seed run)
+    // multiplexed, per path length (index = edges): chains started there, and mutations spent there
+    std::vector<uint64_t> chainsPerLength, mutationsPerLength;
+    uint64_t unusableSeeds = 0; // path space: seed draws that did not re-create in the scene
     MutationStatistics strategies;
     SampleHealth health;
     bool interrupted = false;
@@ -64,7 +73,8 @@ struct ChainRunStats {
 };
 
 using ChainProgressCallback = std::function<void(const ChainRunProgress&)>;
-using ChainSnapshotCallback = std::function<void(const ChainRunProgress&, const SampleFilm&)>;
+// A snapshot: the film read with the normalization as it stands (ChainRunProgress::b).
+using ChainSnapshotCallback = std::function<void(const ChainRunProgress&, const file::Buffer&)>;
 
 // One Markov chain, whatever its state space.
 class MarkovChain {
@@ -78,6 +88,8 @@ public:
 
     uint64_t quota = 0; // mutations this chain is to run (all of them with only a time limit)
     uint64_t done = 0;
+    // Independent samples of b drawn since the runner last took them (chain_run.h, top).
+    NormalizationEstimate normalization;
 };
 
 // The clock, progress and snapshots of a run, from its start (start-up included) to its end.
@@ -93,10 +105,11 @@ public:
     // Give every chain its quota: the run's mutations split evenly (or unbounded with a time limit).
     void assignQuotas(std::vector<std::unique_ptr<MarkovChain>>& chains) const;
     // Rounds until every quota is done, the time is up or Ctrl-C: chains advance in parallel, their splats
-    // merge in chain order with scale = b / pixels (ChainImage). Fills the times, counts and statistics of
-    // `stats` (which must carry the strategy names).
+    // merge in chain order with b = 1 (ChainImage), and their samples of b join stats.normalization (which
+    // holds the start-up's), by which snapshots and the end read the film. Fills the times, counts and
+    // statistics of `stats` (which must carry the strategy names).
     // `afterRound`, when given, sees every chain after each round's merge, in chain order.
-    void run(std::vector<std::unique_ptr<MarkovChain>>& chains, double scale, ChainRunStats& stats,
+    void run(std::vector<std::unique_ptr<MarkovChain>>& chains, ChainRunStats& stats,
              const std::function<void(MarkovChain&)>& afterRound = {});
     // Close `stats` for a run that ends without chains (interrupted during start-up).
     void finish(ChainRunStats& stats) const;

@@ -16,7 +16,8 @@ namespace lt {
 
 // The image estimator <I_j> = (b / N) sum_i h_j(x_i) f(x_i) / f*(x_i) (SURVEY Eq. 16): a state with
 // credit w adds w f / f* at each of its contributions' raster positions. The film divides by the number
-// of mutations (its "light paths") and multiplies by the pixel count, so `scale` = b / pixels.
+// of mutations (its "light paths") and multiplies by the pixel count, so `scale` = 1 / pixels; b, refined
+// during the run, multiplies the film when it is read (mcmc/normalization.h).
 class ChainImage {
 public:
     explicit ChainImage(double scale) : scale_(scale) {}

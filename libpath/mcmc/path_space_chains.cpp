@@ -1,6 +1,8 @@
 #include "mcmc/path_space_chains.h"
 
 #include <chrono>
+#include <cmath>
+#include <optional>
 
 #include "math/error.h"
 #include "sampling/render.h"
@@ -17,10 +19,13 @@ Pcg32 chainStream(uint64_t seed, uint64_t chain) { return Pcg32(mixBits(mixBits(
 
 class PathSpaceChain final : public MarkovChain {
 public:
+    // `refine`: the BDPT sampler and film of the run's samples of b, one every `refineEvery` mutations.
     PathSpaceChain(const Scene& scene, const std::vector<WeightedMutation>& mutations, MarkovPath start, Pcg32 rng,
-                   uint64_t index, uint64_t dumpEvery)
+                   uint64_t index, uint64_t dumpEvery, const Bdpt* refine, const SampleFilm& film, uint64_t refineEvery,
+                   uint64_t refineSeed)
         : scene_(scene), mutations_(mutations), x_(std::move(start)), rng_(rng), stats_(names(mutations)),
-          index_(index), dumpEvery_(dumpEvery) {
+          index_(index), dumpEvery_(dumpEvery), refine_(refine), film_(film), refineEvery_(refineEvery),
+          refineSeed_(refineSeed) {
         position_.contributions = x_.contribution();
         position_.target = x_.target;
     }
@@ -67,6 +72,8 @@ public:
             k.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
             const uint64_t count = done + i + 1;
             if (dumpEvery_ && count % dumpEvery_ == 0) dumped_.push_back(toPathRecord(scene_, x_, index_, count));
+            if (refine_ && count % refineEvery_ == 0)
+                normalization.add(0, bdptSampleOfB(*refine_, film_, refineSeed_, count / refineEvery_));
         }
         position_.flush(image);
         return i;
@@ -104,65 +111,108 @@ private:
     MutationStatistics stats_;
     uint64_t index_, dumpEvery_;
     std::vector<file::PathRecord> dumped_;
+    const Bdpt* refine_;
+    const SampleFilm& film_;
+    uint64_t refineEvery_, refineSeed_;
 };
 
 } // namespace
 
+PathSpaceSeeds seedsFromFile(file::Content&& content, const std::string& name) {
+    double b = -1, samples = -1;
+    for (const auto& t : content.stats)
+        if (t.name == "normalization")
+            for (size_t r = 0; r < t.rows.size(); ++r) {
+                if (t.values[r].empty()) continue;
+                if (t.rows[r] == "b") b = t.values[r][0];
+                if (t.rows[r] == "samples") samples = t.values[r][0];
+            }
+    if (!(b >= 0) || !std::isfinite(b))
+        throw Error(name + ": no normalization b (STAT \"normalization\"); was it written by lt-seed --paths?");
+    if (!(samples >= 1) || !std::isfinite(samples))
+        throw Error(name + ": no sample count of the seed run (STAT \"normalization\" row \"samples\")");
+    PathSpaceSeeds seeds;
+    seeds.paths = std::move(content.paths);
+    seeds.b.addMean(0, b, uint64_t(samples));
+    return seeds;
+}
+
+double bdptSampleOfB(const Bdpt& bdpt, const SampleFilm& film, uint64_t seed, uint64_t index,
+                     const StrategyCallback* onPath) {
+    thread_local std::vector<Splat> splats;
+    SampleHealth health;
+    IndependentSampler u(mixBits(mixBits(seed ^ 0x5eedULL) + index), index);
+    const PixelRect window = film.window();
+    const int x = window.x0 + std::min(int(u.next1D() * window.width()), window.width() - 1);
+    const int y = window.y0 + std::min(int(u.next1D() * window.height()), window.height() - 1);
+    double sum = 0;
+    const StrategyCallback collect = [&](const StrategyPath& sp) {
+        sum += seedWeight(film, sp);
+        if (onPath) (*onPath)(sp);
+    };
+    splats.clear();
+    (void)bdpt.sample(film.sampleRaster(x, y, u.next2D()), u, splats, health, &collect);
+    return sum * double(window.area());
+}
+
 PathSpaceSeeds seedWithBdpt(const Scene& scene, const BdptSettings& bdpt, uint64_t samples, size_t keep, uint64_t seed,
                             int threads, const std::atomic<bool>* stop) {
     // `samples` BDPT samples at uniformly chosen pixels (not whole passes: on a large image a pass alone
-    // would outlast a short run), each with its own keyed stream; candidates reach the reservoir in
-    // sample order, block by block, so the draws do not depend on the thread count.
+    // would outlast a short run), each with its own keyed stream; candidates and samples of b reach the
+    // reservoir and the estimate in sample order, block by block, so nothing depends on the thread count.
     const SampleFilm film(scene.camera);
     const Bdpt sampler(scene, bdpt);
-    const PixelRect window = film.window();
     SeedReservoir reservoir(keep, seed ^ 0x9e3779b97f4a7c15ULL);
+    PathSpaceSeeds out;
     const int nThreads = threads > 0 ? threads : tbb::this_task_arena::max_concurrency();
     tbb::task_arena arena(nThreads);
     constexpr uint64_t Block = 1024;
     const uint64_t blocks = (samples + Block - 1) / Block;
-    uint64_t done = 0;
     for (uint64_t wave = 0; wave < blocks && !(stop && stop->load()); wave += uint64_t(2 * nThreads)) {
         const uint64_t end = std::min(blocks, wave + uint64_t(2 * nThreads));
         std::vector<std::vector<file::PathRecord>> candidates(size_t(end - wave));
+        std::vector<std::vector<double>> values(size_t(end - wave));
         arena.execute([&] {
             tbb::parallel_for(wave, end, [&](uint64_t b) {
-                std::vector<Splat> splats;
-                SampleHealth health;
                 for (uint64_t i = b * Block; i < std::min(samples, (b + 1) * Block); ++i) {
-                    IndependentSampler u(mixBits(mixBits(seed ^ 0x5eedULL) + i), i);
-                    const int x = window.x0 + std::min(int(u.next1D() * window.width()), window.width() - 1);
-                    const int y = window.y0 + std::min(int(u.next1D() * window.height()), window.height() - 1);
                     const StrategyCallback collect = [&](const StrategyPath& sp) {
                         candidates[size_t(b - wave)].push_back(seedCandidate(scene, film, sp, i, 0));
                     };
-                    splats.clear();
-                    (void)sampler.sample(film.sampleRaster(x, y, u.next2D()), u, splats, health, &collect);
+                    values[size_t(b - wave)].push_back(bdptSampleOfB(sampler, film, seed, i, &collect));
                 }
                 EmbreeAccel::flushRayCount();
             });
         });
-        for (auto& block : candidates)
-            for (const auto& c : block)
+        for (size_t b = 0; b < candidates.size(); ++b) {
+            for (const auto& c : candidates[b])
                 reservoir.add(c);
-        done = std::min(samples, end * Block);
+            for (double v : values[b])
+                out.b.add(0, v);
+        }
     }
-    return {reservoir.draws(), reservoir.normalization(done, double(window.area()))};
+    out.paths = reservoir.draws();
+    return out;
 }
 
 ChainRunStats runPathSpaceChains(const Scene& scene, const PathSpaceSeeds& seeds,
                                  const std::vector<WeightedMutation>& mutations, const ChainRunSettings& run,
-                                 SampleFilm& film, const ChainProgressCallback& progress, const std::atomic<bool>* stop,
+                                 const BdptSettings& bdpt, double refineB, SampleFilm& film,
+                                 const ChainProgressCallback& progress, const std::atomic<bool>* stop,
                                  const ChainSnapshotCallback& snapshot, const PathDump& dump) {
     if (run.chains < 1) throw Error("the number of chains must be at least 1");
     if (run.mutations == 0 && !(run.timeLimit > 0)) throw Error("give a number of mutations or a time limit");
     if (mutations.empty()) throw Error("no mutation to run");
-    if (seeds.paths.empty() || !(seeds.b > 0)) throw Error("no seed paths with light to start the chains from");
+    if (seeds.paths.empty() || !(seeds.b.b() > 0)) throw Error("no seed paths with light to start the chains from");
+    if (!(refineB >= 0 && refineB <= 1)) throw Error("the samples of b per mutation must be in [0, 1]");
     ChainRunner runner(run, film, progress, stop, snapshot);
     ChainRunStats stats;
     stats.strategies = MutationStatistics(PathSpaceChain::names(mutations));
-    stats.b = seeds.b;
-    stats.startupSamples = seeds.paths.size();
+    stats.normalization = seeds.b;
+    stats.startupSamples = seeds.b.samples();
+    // The run's own samples of b: BDPT with the scene's settings, one every `refineEvery` mutations of a chain.
+    std::optional<Bdpt> refine;
+    const uint64_t refineEvery = refineB > 0 ? std::max<uint64_t>(1, uint64_t(std::llround(1 / refineB))) : 0;
+    if (refineEvery) refine.emplace(scene, bdpt);
 
     // Each chain starts from a seed draw picked uniformly (the draws are already in proportion to
     // weight). A draw that does not re-create in this scene is replaced by another and counted.
@@ -174,7 +224,9 @@ ChainRunStats runPathSpaceChains(const Scene& scene, const PathSpaceSeeds& seeds
             const size_t i = std::min(size_t(rng.nextDouble() * double(seeds.paths.size())), seeds.paths.size() - 1);
             try {
                 chains.push_back(std::make_unique<PathSpaceChain>(
-                    scene, mutations, pathFromRecord(scene, seeds.paths[i], i), rng, uint64_t(c), dump.every));
+                    scene, mutations, pathFromRecord(scene, seeds.paths[i], i), rng, uint64_t(c), dump.every,
+                    refine ? &*refine : nullptr, film, refineEvery,
+                    mixBits(mixBits(run.seed ^ 0xb5a3b5a3ULL) + uint64_t(c))));
                 break;
             } catch (const Error& e) {
                 ++unusable;
@@ -193,7 +245,7 @@ ChainRunStats runPathSpaceChains(const Scene& scene, const PathSpaceSeeds& seeds
             if (!records.empty()) dump.write(records);
             records.clear();
         };
-    runner.run(chains, stats.b / (double(film.width()) * double(film.height())), stats, afterRound);
+    runner.run(chains, stats, afterRound);
     return stats;
 }
 

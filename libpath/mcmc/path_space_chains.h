@@ -1,18 +1,30 @@
 // Path-space Metropolis light transport (Veach and Guibas 1997; ALGORITHMS.md 1.4, 2): chains whose
 // states are whole paths, started from seed paths and mutated by a weighted mix of mutations.
 //
-// Start-up (ALGORITHMS.md 1.3): the seed paths are independent draws in proportion to their weight
-// (lt-seed --paths); a chain starts from one of them picked uniformly, and the image is scaled by the
-// seed run's b, so the average over runs is unbiased (Veach-Guibas start-up bias removal).
+// Start-up (Veach and Guibas 1997, Sec. 5.2, start-up bias removal): the seed paths are independent
+// draws in proportion to their weight (lt-seed --paths); a chain starts from one of them picked uniformly.
+//
+// Normalization (mcmc/normalization.h). The seed run's b is the mean of its n_s BDPT samples X_i, each
+// X_i = P sum over the sample's strategies of seedWeight (P = pixels; an unbiased estimate of b). During
+// the run every chain adds one more independent BDPT sample Y_j, at a uniformly chosen pixel, every
+// 1 / `refineB` mutations, and the film is read with
+//   b = (sum_i X_i + sum_j Y_j) / (n_s + n_r),
+// unbiased for any n_r fixed independently of the values (a time limit decides n_r by the clock, not by
+// the values), with variance Var(X) / (n_s + n_r): the scale error falls with the run instead of staying
+// at the seed run's. The image estimator b / N sum f / f* is then consistent (the chains' start-up
+// states still come from the seed run, whose bias vanishes as the chains mix) rather than unbiased over
+// runs as with the seed b alone; that was the price of an error curve that keeps falling.
 #pragma once
 
 #include <functional>
 #include <string>
 #include <vector>
 
+#include "formats/ltfile.h"
 #include "formats/records.h"
 #include "mcmc/chain_run.h"
 #include "mcmc/mutation.h"
+#include "mcmc/normalization.h"
 #include "sampling/bdpt.h"
 
 namespace lt {
@@ -24,8 +36,18 @@ struct WeightedMutation {
 
 struct PathSpaceSeeds {
     std::vector<file::PathRecord> paths; // draws in proportion to weight
-    double b = 0;                        // integral of f* over the image (STAT normalization)
+    NormalizationEstimate b;             // the seed run's estimate of the integral of f* over the image
 };
+
+// The share of b of one BDPT sample (sum of its strategies' seedWeight times the pixel count) through a
+// uniformly chosen pixel of `film`, with random numbers keyed by (seed, index); `onPath`, when given,
+// sees each strategy path (seedCandidate's input).
+[[nodiscard]] double bdptSampleOfB(const Bdpt& bdpt, const SampleFilm& film, uint64_t seed, uint64_t index,
+                                   const StrategyCallback* onPath = nullptr);
+
+// The seed paths of a paths file (lt-seed --paths) with the seed run's b and sample count (STAT
+// "normalization": b, samples); throws lt::Error naming `name` when they are missing.
+[[nodiscard]] PathSpaceSeeds seedsFromFile(file::Content&& content, const std::string& name);
 
 // Seed paths from a BDPT run of its own (what lt-seed --paths writes): at least `samples` camera
 // samples (whole passes), `keep` draws.
@@ -39,11 +61,13 @@ struct PathDump {
     std::function<void(std::vector<file::PathRecord>&)> write;
 };
 
-// Renders into `film`. The mutations must outlive the call. Throws lt::Error when no seed path fits the
-// scene. `stats.strategies` gets one row per mutation.
+// Renders into `film`. `refineB`: independent BDPT samples (with `bdpt`, the seed run's settings) per
+// mutation added to b during the run (0: the seed run's b alone). The mutations must outlive the call. Throws lt::Error
+// when no seed path fits the scene. `stats.strategies` gets one row per mutation.
 ChainRunStats runPathSpaceChains(const Scene& scene, const PathSpaceSeeds& seeds,
                                  const std::vector<WeightedMutation>& mutations, const ChainRunSettings& run,
-                                 SampleFilm& film, const ChainProgressCallback& progress, const std::atomic<bool>* stop,
+                                 const BdptSettings& bdpt, double refineB, SampleFilm& film,
+                                 const ChainProgressCallback& progress, const std::atomic<bool>* stop,
                                  const ChainSnapshotCallback& snapshot = {}, const PathDump& dump = {});
 
 } // namespace lt

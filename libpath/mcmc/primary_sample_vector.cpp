@@ -12,6 +12,20 @@ double SmallStepKernel::mutate(double u, Pcg32& rng) const {
     return v < 1.0 ? v : 0.0; // floor of a tiny negative number can round v up to exactly 1
 }
 
+double SmallStepKernel::mutate(double u, uint64_t n, Pcg32& rng) const {
+    if (n <= ExactSteps) {
+        for (uint64_t k = 0; k < n; ++k)
+            u = mutate(u, rng);
+        return u;
+    }
+    // E[offset^2] for offset = s2 exp(-L xi), L = ln(s2 / s1), xi uniform: s2^2 (1 - e^(-2L)) / (2L).
+    const double L = std::log(s2 / s1);
+    const double variance = s2 * s2 * (1 - (s1 * s1) / (s2 * s2)) / (2 * L);
+    double v = u + std::sqrt(variance * double(n)) * standardNormal(rng);
+    v -= std::floor(v);
+    return v < 1.0 ? v : 0.0;
+}
+
 PrimarySampleVector::PrimarySampleVector(Pcg32 rng, Pcg32 init, SmallStepKernel kernel)
     : rng_(rng), init_(init), kernel_(kernel) {}
 
@@ -67,8 +81,7 @@ PrimarySampleVector::Coordinate& PrimarySampleVector::prepare(size_t index) {
         c.value = rng_.nextDouble();
     } else {
         // The small steps of the iterations since the last change, this one included.
-        for (uint64_t k = c.modified; k < iteration_; ++k)
-            c.value = kernel_.mutate(c.value, rng_);
+        c.value = kernel_.mutate(c.value, iteration_ - c.modified, rng_);
     }
     c.modified = iteration_;
     return c;

@@ -6,9 +6,9 @@
 // model). For the chain to be the textbook one, in which EVERY coordinate is mutated at every iteration
 // with a symmetric kernel (the acceptance is then f*(u') / f*(u)), a coordinate read at iteration k
 // receives all the mutations it missed since it was last touched: a fresh uniform value if a large step
-// was accepted meanwhile (anything symmetric after a uniform draw stays uniform), otherwise one
-// exponential small step per missed iteration. Three interleaved streams (camera, light, connection) keep
-// the subpaths' numbers apart, so a longer camera subpath does not shift the light subpath's numbers.
+// was accepted meanwhile (anything symmetric after a uniform draw stays uniform), otherwise the small
+// steps of every missed iteration (SmallStepKernel::mutate(u, n, rng)). Three interleaved streams (camera, light,
+// connection) keep the subpaths' numbers apart, so a longer camera subpath does not shift the light subpath's numbers.
 #pragma once
 
 #include <cstdint>
@@ -19,11 +19,18 @@
 
 namespace lt {
 
-// Kelemen's small step: u + or - s2 exp(-ln(s2 / s1) xi), wrapped to [0, 1) (ALGORITHMS.md 8), with
-// s1 = 1/1024 and s2 = 1/64 by default. Symmetric: the density of the offset depends on |offset| only.
+// Kelemen's small step: u + or - s2 exp(-ln(s2 / s1) xi), wrapped to [0, 1) (Kelemen et al. 2002, Sec. 4),
+// with s1 = 1/1024 and s2 = 1/64 by default. Symmetric: the density of the offset depends on |offset| only.
 struct SmallStepKernel {
     double s1 = 1.0 / 1024.0, s2 = 1.0 / 64.0;
     [[nodiscard]] double mutate(double u, Pcg32& rng) const;
+    // n small steps at once. Up to ExactSteps they are drawn one by one; beyond, their sum is drawn as the
+    // normal of the same variance n E[offset^2] (central limit: the excess kurtosis of one offset is
+    // -0.2, of the sum -0.2 / n), wrapped. Still symmetric, and O(1): a coordinate unread for 10^5
+    // iterations (a long path's light subpath while the chain uses short strategies) no longer costs
+    // 10^5 exponentials when it is read again.
+    static constexpr uint64_t ExactSteps = 16;
+    [[nodiscard]] double mutate(double u, uint64_t n, Pcg32& rng) const;
 };
 
 class PrimarySampleVector final : public SampleGenerator {

@@ -5,7 +5,7 @@
 
 #include <chrono>
 #include <memory>
-#include <numeric>
+#include <optional>
 
 #include "math/distribution.h"
 #include "math/error.h"
@@ -30,16 +30,19 @@ Pcg32 chainStream(uint64_t seed, uint64_t chain) {
 
 class PrimarySpaceChain final : public MarkovChain {
 public:
+    // `lengths` (multiplexed only): q, the distribution of a large step's path length (index = edges - 1).
     PrimarySpaceChain(const PrimarySpaceTarget& target, const PrimarySpaceSettings& space, PrimarySampleVector start,
-                      int edges)
-        : target_(target), multiplexed_(space.space == PrimarySpace::Multiplexed),
-          largeStep_(space.largeStepProbability), u_(std::move(start)), edges_(edges) {}
+                      int edges, const DiscreteDistribution* lengths)
+        : target_(target), largeStep_(space.largeStepProbability), u_(std::move(start)), edges_(edges),
+          lengths_(lengths), mutationsPerLength_(lengths ? lengths->size() + 1 : 0, 0) {
+        if (lengths_) normalization = NormalizationEstimate(lengths_->size() + 1);
+    }
 
     uint64_t advance(uint64_t n, ChainImage& image, const std::function<bool()>& timeUp) override {
         if (!started_) {
             // The initial state: the start-up sample re-created from its own stream.
             started_ = true;
-            position_.target = evaluate(position_.contributions);
+            position_.target = evaluate(edges_, position_.contributions);
         }
         Pcg32& rng = u_.rng();
         uint64_t i = 0;
@@ -50,12 +53,18 @@ public:
             const bool large = rng.nextDouble() < largeStep_;
             StrategyCounters& k = stats_[large ? LargeStep : SmallStep];
             const auto t0 = std::chrono::steady_clock::now();
+            const int edges = large && lengths_ ? int(lengths_->sample(rng.nextDouble())) + 1 : edges_;
             u_.startIteration(large);
             const uint64_t bad = health_.nonFinite;
-            const double f = evaluate(proposed_);
+            const double f = evaluate(edges, proposed_);
             ++k.proposed;
-            // Symmetric kernels: a = f*(u') / f*(u) (ALGORITHMS.md 8).
-            const double a = f > 0 ? std::min(1.0, f / position_.target) : 0.0;
+            // A large step's u' is uniform: f*(u') is an independent sample of b (of b_k' when multiplexed).
+            if (large) normalization.add(lengths_ ? size_t(edges) : 0, f);
+            // Symmetric in u; a multiplexed large step's length is an independence proposal (file comment
+            // of primary_space_chains.h).
+            const double lengthRatio =
+                edges == edges_ ? 1.0 : lengths_->pmf(size_t(edges_ - 1)) / lengths_->pmf(size_t(edges - 1));
+            const double a = f > 0 ? std::min(1.0, f * lengthRatio / position_.target) : 0.0;
             if (!(f > 0))
                 ++k.rejected[size_t(health_.nonFinite > bad ? RejectCause::NonFinite : RejectCause::ZeroContribution)];
             const bool move = f > 0 && rng.nextDouble() < a;
@@ -63,10 +72,12 @@ public:
             position_.step(proposed_, f, a, move, image);
             if (move) {
                 u_.accept();
+                edges_ = edges;
                 ++k.accepted;
             } else {
                 u_.reject();
             }
+            if (lengths_) ++mutationsPerLength_[size_t(edges_)];
             k.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         }
         position_.flush(image);
@@ -77,23 +88,27 @@ public:
         strategies.merge(stats_);
         health.nonFinite += health_.nonFinite;
     }
+    void collectLengths(std::vector<uint64_t>& mutations) const {
+        for (size_t k = 0; k < mutationsPerLength_.size(); ++k)
+            mutations[k] += mutationsPerLength_[k];
+    }
 
 private:
-    double evaluate(std::vector<ImageContribution>& out) {
-        return multiplexed_ ? target_.evaluateMultiplexed(edges_, u_, out, health_)
-                            : target_.evaluateAll(u_, out, health_);
+    double evaluate(int edges, std::vector<ImageContribution>& out) {
+        return lengths_ ? target_.evaluateMultiplexed(edges, u_, out, health_) : target_.evaluateAll(u_, out, health_);
     }
 
     const PrimarySpaceTarget& target_;
-    bool multiplexed_;
     double largeStep_;
     PrimarySampleVector u_;
     int edges_;
+    const DiscreteDistribution* lengths_;
     bool started_ = false;
     ChainPosition position_;
     std::vector<ImageContribution> proposed_;
     MutationStatistics stats_{{"large step", "small step"}};
     SampleHealth health_;
+    std::vector<uint64_t> mutationsPerLength_;
 };
 
 } // namespace
@@ -108,20 +123,18 @@ ChainRunStats runPrimarySpaceChains(const Scene& scene, const PrimarySpaceSettin
     ChainRunner runner(run, film, progress, stop, snapshot);
     const PrimarySpaceTarget target(scene, space.bdpt, space.unboundedEdges);
     const bool multiplexed = space.space == PrimarySpace::Multiplexed;
-    const double pixels = double(film.width()) * double(film.height());
     ChainRunStats stats;
     stats.strategies = MutationStatistics({"large step", "small step"});
     const int threads = run.threads > 0 ? run.threads : tbb::this_task_arena::max_concurrency();
     tbb::task_arena arena(threads);
 
-    // 1. Start-up: independent primary samples, per path length for multiplexed MLT.
+    // 1. Start-up: independent primary samples, `startupSamples` per path length for multiplexed MLT.
     const int lengths = multiplexed ? target.maxEdges() : 1;
-    const uint64_t perLength = std::max<uint64_t>(1, space.startupSamples / uint64_t(lengths));
-    std::vector<std::vector<double>> weights(size_t(lengths) + 1);
+    const uint64_t perLength = space.startupSamples;
+    std::vector<double> weights(perLength * uint64_t(lengths), 0.0); // index (k - 1) * perLength + i
     std::atomic<uint64_t> startupNonFinite{0};
     for (int k = 1; k <= lengths && !runner.stopped(); ++k) {
-        auto& w = weights[size_t(k)];
-        w.assign(perLength, 0.0);
+        double* w = weights.data() + uint64_t(k - 1) * perLength;
         arena.execute([&] {
             tbb::parallel_for(tbb::blocked_range<uint64_t>(0, perLength, 256),
                               [&](const tbb::blocked_range<uint64_t>& r) {
@@ -141,46 +154,58 @@ ChainRunStats runPrimarySpaceChains(const Scene& scene, const PrimarySpaceSettin
     }
     stats.startupSamples = perLength * uint64_t(lengths);
     stats.health.nonFinite = startupNonFinite.load();
-    stats.bPerLength.assign(size_t(lengths) + 1, 0.0);
-    for (int k = 1; k <= lengths; ++k) {
-        // Summed in index order: the same b for any thread count.
-        const auto& w = weights[size_t(k)];
-        stats.bPerLength[size_t(k)] = std::accumulate(w.begin(), w.end(), 0.0) / double(perLength);
-    }
-    stats.b = std::accumulate(stats.bPerLength.begin(), stats.bPerLength.end(), 0.0);
+    // In index order: the same b for any thread count. Stratum = path length (multiplexed) or 0.
+    stats.normalization = NormalizationEstimate(multiplexed ? size_t(lengths) + 1 : 1);
+    for (int k = 1; k <= lengths; ++k)
+        for (uint64_t i = 0; i < perLength; ++i)
+            stats.normalization.add(multiplexed ? size_t(k) : 0, weights[uint64_t(k - 1) * perLength + i]);
     stats.startupSeconds = runner.elapsed();
     if (runner.stopped()) {
         stats.interrupted = true;
         runner.finish(stats);
         return stats;
     }
-    if (!(stats.b > 0))
+    const double b = stats.normalization.b();
+    if (!(b > 0))
         throw Error("the start-up found no light reaching the camera in " + std::to_string(stats.startupSamples) +
                     " samples: nothing for the chains to start from (raise --startup-samples, or check the scene)");
 
-    // 2. The chains: a path length for each (multiplexed), a start-up sample drawn in proportion to f*.
-    std::vector<DiscreteDistribution> startFrom(size_t(lengths) + 1);
-    for (int k = 1; k <= lengths; ++k)
-        if (stats.bPerLength[size_t(k)] > 0) startFrom[size_t(k)] = DiscreteDistribution(weights[size_t(k)]);
-    std::vector<double> lengthWeights(stats.bPerLength.begin() + 1, stats.bPerLength.end());
-    const DiscreteDistribution lengthShare(lengthWeights);
+    // 2. q, the large steps' path lengths (multiplexed), and the chains' first states: start-up samples in
+    // proportion to f* over all lengths (each length has as many samples, so f* is the resampling weight),
+    // systematic over the chain index.
+    std::optional<DiscreteDistribution> lengthProposal;
+    if (multiplexed) {
+        double harmonic = 0;
+        for (int k = 1; k <= lengths; ++k)
+            harmonic += 1.0 / k;
+        std::vector<double> q(static_cast<size_t>(lengths));
+        for (int k = 1; k <= lengths; ++k)
+            q[size_t(k - 1)] =
+                (1 - LengthFloor) * stats.normalization.stratumB(size_t(k)) / b + LengthFloor / (k * harmonic);
+        lengthProposal.emplace(q);
+    }
+    const DiscreteDistribution startFrom(weights);
     Pcg32 allocation = chainStream(run.seed, ~uint64_t(0));
     const double offset = allocation.nextDouble();
-    stats.chainsPerLength.assign(size_t(lengths) + 1, 0);
+    stats.chainsPerLength.assign(multiplexed ? size_t(lengths) + 1 : 0, 0);
+    stats.mutationsPerLength.assign(stats.chainsPerLength.size(), 0);
     std::vector<std::unique_ptr<MarkovChain>> chains;
     for (int c = 0; c < run.chains; ++c) {
         Pcg32 rng = chainStream(run.seed, uint64_t(c));
-        const int k = int(lengthShare.sample((c + offset) / run.chains)) + 1;
-        const size_t index = startFrom[size_t(k)].sample(rng.nextDouble());
+        const size_t index = startFrom.sample((c + offset) / run.chains);
+        const int k = int(index / perLength) + 1;
         chains.push_back(std::make_unique<PrimarySpaceChain>(
             target, space,
-            PrimarySampleVector(rng, startupStream(run.seed, multiplexed ? k : 0, index), space.smallStep), k));
-        ++stats.chainsPerLength[size_t(k)];
+            PrimarySampleVector(rng, startupStream(run.seed, multiplexed ? k : 0, index % perLength), space.smallStep),
+            k, lengthProposal ? &*lengthProposal : nullptr));
+        if (multiplexed) ++stats.chainsPerLength[size_t(k)];
     }
     runner.assignQuotas(chains);
 
     // 3. Rounds of mutations.
-    runner.run(chains, stats.b / pixels, stats);
+    runner.run(chains, stats);
+    for (const auto& c : chains)
+        static_cast<const PrimarySpaceChain&>(*c).collectLengths(stats.mutationsPerLength);
     return stats;
 }
 

@@ -1,15 +1,27 @@
 // Kelemen PSSMLT and multiplexed MLT over lt's BDPT (ALGORITHMS.md 8).
 //
-// Start-up (Veach-Guibas start-up bias removal, ALGORITHMS.md 1.3, in primary sample space as Kelemen and
-// pbrt-v3 do): `startupSamples` independent primary samples estimate b = integral of f*; every chain
-// then starts from one of them drawn in proportion to f*, and the image is scaled by that b. Multiplexed
-// MLT estimates b per path length, gives each length a share of the chains in proportion to its b
-// (systematic sampling over the chain index, so the share is exact in expectation), and starts each chain
-// from that length's samples.
+// Start-up (Veach-Guibas start-up bias removal, in primary sample space as Kelemen and pbrt-v3 do):
+// `startupSamples` independent primary samples (multiplexed MLT: that many for EVERY path length, as
+// pbrt-v3 spends them, so that each length's b_k is estimated, however small its share) give the first estimate of b =
+// integral of f*, and every chain starts from one of them drawn in proportion to f* (systematic over the chain index).
+// b is then refined during the run: every large step is an independent uniform sample of f*, so its value joins the
+// estimate whether it is accepted or not (mcmc/normalization.h), and the film is read with b as it then stands.
 //
-// Proposals: a large step (all coordinates fresh) with probability `largeStepProbability`, otherwise
-// Kelemen's exponential small step on every coordinate (mcmc/primary_sample_vector.h). Both kernels are
-// symmetric, so the acceptance is f*(u') / f*(u).
+// Multiplexed MLT: the path length k is part of the state, so a chain can reach every length and no
+// length is lost to a start-up that missed it. The target is f*(k, u) = f*_k(u), whose integral is
+// b = sum_k b_k. A small step keeps k; a large step draws k' from a fixed distribution q and u' fresh, an
+// independence proposal of density q(k') on (k', u'), accepted with
+//   a = min(1, f*(k', u') q(k) / (f*(k, u) q(k'))).
+// The best q for that acceptance is the target's own marginal b_k / b; q is the start-up's estimate of it
+// mixed with a floor, q(k) = (1 - LengthFloor) b_k / b + LengthFloor (1 / k) / sum_j (1 / j), so that a
+// length the start-up missed still gets a share of the large steps. The floor is spread in proportion to
+// 1 / k, the inverse of a length's cost, so that every length gets the same work from it and a scene
+// with 65 possible lengths does not spend most of its large steps on long, dark ones; at most LengthFloor
+// of the large steps are "wasted" on lengths that carry no light. A large step at length k' is a sample
+// of b_k' (u' is uniform), so each length's b_k is the mean of its own samples and b their sum.
+//
+// Proposals: a large step with probability `largeStepProbability`, otherwise Kelemen's exponential small
+// step on every coordinate (mcmc/primary_sample_vector.h). Both are symmetric in u.
 #pragma once
 
 #include "mcmc/chain_run.h"
@@ -19,13 +31,17 @@ namespace lt {
 
 enum class PrimarySpace { Kelemen, Multiplexed };
 
+// Multiplexed MLT: the share of large steps spread evenly over the path lengths (file comment).
+inline constexpr double LengthFloor = 0.1;
+
 struct PrimarySpaceSettings {
     PrimarySpace space = PrimarySpace::Kelemen;
     BdptSettings bdpt;
     int unboundedEdges = 12;           // multiplexed: path-length bound when bdpt.maxDepth is -1
     double largeStepProbability = 0.3; // Mitsuba's default (ALGORITHMS.md 8)
     SmallStepKernel smallStep;
-    uint64_t startupSamples = 100000; // Mitsuba's luminanceSamples; multiplexed: spread over the lengths
+    uint64_t startupSamples = 100000; // Mitsuba's luminanceSamples; multiplexed: per path length, as pbrt-v3
+                                      // (lt-mutate's default there is 20000)
 };
 
 // Renders into `film` (its splats; the film's light-path count becomes the number of mutations).

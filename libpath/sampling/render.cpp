@@ -28,13 +28,17 @@ double cpuSeconds() { return double(std::clock()) / CLOCKS_PER_SEC; }
 
 } // namespace
 
+double seedWeight(const SampleFilm& film, const StrategyPath& path) {
+    const double w = std::max(0.0, (path.unweighted * path.misWeight).luminance());
+    if (path.t == 1) return w;
+    const double h = film.filterSum(path.raster);
+    return h > 0 ? w / h : 0.0;
+}
+
 file::PathRecord seedCandidate(const Scene& scene, const SampleFilm& film, const StrategyPath& path, uint64_t stream,
                                uint64_t offset) {
     file::PathRecord rec = toPathRecord(scene, path, stream, offset);
-    if (path.t > 1) {
-        const double h = film.filterSum(path.raster);
-        rec.weight = h > 0 ? rec.weight / h : 0.0;
-    }
+    rec.weight = seedWeight(film, path);
     return rec;
 }
 

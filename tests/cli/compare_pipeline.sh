@@ -16,6 +16,12 @@ check "compare.sh: error table and CSV" 'grep -q relMSE "$tmp/cmp/error.txt" && 
 check "compare.sh: plot and figure are PNGs" '[ "$(magic "$tmp/cmp/error.png" 4)" = "89504e47" ] && [ "$(magic "$tmp/cmp/figure.png" 4)" = "89504e47" ]'
 out=$(bash "$src/pipelines/compare.sh" "$scene" --time 1 --methods "pt memlt" --out "$tmp/cmp2" 2>&1); code=$?
 check "compare.sh: a method without its tool is refused by name, before rendering" '[ $code -ne 0 ] && echo "$out" | grep -q "memlt" && [ ! -e "$tmp/cmp2/pt.lts" ]'
+bash "$src/pipelines/regions.sh" "$scene" --time 1 --runs 2 --methods "bdpt mmlt" --ref "$tmp/ref.exr" --crop 0,0,8,8 \
+    --crop 4,4,8,8 --out "$tmp/reg" > "$tmp/reglog" 2>&1; code=$?
+check "regions.sh: exit 0, a row per method and crop with the ratio to the reference" '[ $code -eq 0 ] &&
+  [ "$(grep -Ec "^(bdpt|mmlt) +[0-9]+,[0-9]+,8,8 +2 +[0-9.]+ +[0-9.]+" "$tmp/reg/regions.txt")" -eq 4 ]' || cat "$tmp/reglog"
+out=$(bash "$src/pipelines/regions.sh" "$scene" --time 1 --runs 1 --methods bdpt --ref "$tmp/ref.exr" --crop 0,0,8,8 2>&1); code=$?
+check "regions.sh: one run is refused (no spread to measure)" '[ $code -ne 0 ] && echo "$out" | grep -q "at least 2"'
 bash "$src/pipelines/sweep.sh" "$scene" --ref "$tmp/ref.exr" --option --max-depth --values 1,3 --out "$tmp/sw" -- --spp 2 > "$tmp/swlog" 2>&1; code=$?
 check "sweep.sh: exit 0, a row per value" '[ $code -eq 0 ] && grep -q "max-depth=1.lts" "$tmp/sw/sweep.txt" && grep -q "max-depth=3.lts" "$tmp/sw/sweep.txt"'
 # maxDepth 1 sees only the light: the rest of the box is black, so its error must be the larger one.

@@ -17,7 +17,7 @@ check "renders and reference" '[ -s spp1.lts ] && [ -s spp8.lts ] && [ -s ref.ex
 out=$("$bin/lt-error" spp1.lts spp8.lts --ref ref.exr 2>&1); code=$?
 echo "$out"
 check "table: exit 0" '[ $code -eq 0 ]'
-check "table: header" '[[ "$(echo "$out" | head -1)" =~ ^input\ +image\ +time\ \[s\]\ +samples\ +relMSE\ +efficiency$ ]]'
+check "table: header" '[[ "$(echo "$out" | head -1)" =~ ^input\ +image\ +time\ \[s\]\ +samples\ +relMSE\ +efficiency\ +scale\ +relMSE\ rescaled$ ]]'
 # 16 x 16 pixels: 256 samples at 1 spp, 2048 at 8 spp; the time comes from the file's STAT "run" table.
 check "table: a row per input with its samples" 'echo "$out" | grep -Eq "^spp1.lts +BUFR +[0-9.]+ +256 " &&
   echo "$out" | grep -Eq "^spp8.lts +BUFR +[0-9.]+ +2048 " && [ "$(echo "$out" | wc -l)" -eq 3 ]'
@@ -41,12 +41,12 @@ check "--trim says how many pixels it dropped" '[ $code -eq 0 ] && echo "$out" |
 
 "$bin/lt-error" spp1.lts spp8.lts ref.exr --ref ref.exr --csv rows.csv > /dev/null 2>&1; code=$?
 check "--csv: exit 0" '[ $code -eq 0 ]'
-check "--csv: header" '[ "$(head -1 rows.csv)" = "input,label,time,cpu_time,samples,metric,error,efficiency" ]'
+check "--csv: header" '[ "$(head -1 rows.csv)" = "input,label,time,cpu_time,samples,metric,error,efficiency,scale,error_rescaled" ]'
 check "--csv: one row per input" '[ "$(wc -l < rows.csv)" -eq 4 ] &&
-  grep -Eq "^spp1.lts,BUFR,[0-9.e-]+,[0-9.e-]+,256,relMSE,[0-9.e-]+,[0-9.e+-]+$" rows.csv &&
-  grep -Eq "^spp8.lts,BUFR,[0-9.e-]+,[0-9.e-]+,2048,relMSE,[0-9.e-]+,[0-9.e+-]+$" rows.csv'
-# The reference against itself: error 0, no time (an EXR carries none), so no efficiency.
-check "--csv: EXR row without a time" 'grep -q "^ref.exr,EXR,,,,relMSE,0,$" rows.csv'
+  grep -Eq "^spp1.lts,BUFR,[0-9.e-]+,[0-9.e-]+,256,relMSE,[0-9.e-]+,[0-9.e+-]+,[0-9.e+-]+,[0-9.e+-]+$" rows.csv &&
+  grep -Eq "^spp8.lts,BUFR,[0-9.e-]+,[0-9.e-]+,2048,relMSE,[0-9.e-]+,[0-9.e+-]+,[0-9.e+-]+,[0-9.e+-]+$" rows.csv'
+# The reference against itself: error 0, no time (an EXR carries none), so no efficiency; scale 1.
+check "--csv: EXR row without a time" 'grep -q "^ref.exr,EXR,,,,relMSE,0,,1,0$" rows.csv'
 
 check "--json is valid JSON with the rows" '"$bin/lt-error" spp1.lts spp8.lts --ref ref.exr --metric rrmse --json 2>/dev/null |
   python3 -c "import json, sys; j = json.load(sys.stdin); assert j[\"metric\"] == \"rRMSE\", j; assert [r[\"samples\"] for r in j[\"rows\"]] == [256, 2048], j"'

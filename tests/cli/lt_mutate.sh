@@ -18,7 +18,17 @@ for space in path primary multiplexed; do
     stats=$("$bin/lt-inspect" "$tmp/$space-1.lts")
     check "$space: strategy statistics stored" 'echo "$stats" | grep -q "stat *strategies"'
     check "$space: normalization stored" 'echo "$stats" | grep -q "startup_samples"'
+    # b is refined during the run (large steps; path space: BDPT samples), so it has more samples than the
+    # start-up drew, and its standard error is stored.
+    check "$space: b refined during the run, its error stored" 'echo "$stats" | grep -q "b_relative_standard_error" &&
+      echo "$stats" | awk "/^ +b_samples / { n = \$2 } /^ +startup_samples / { s = \$2 } END { exit !(n > s) }"'
 done
+stats=$("$bin/lt-inspect" "$tmp/multiplexed-1.lts")
+check "multiplexed: per-length table with b, its error, chains and mutations" \
+    'echo "$stats" | grep -q "b_standard_error *b_samples *chains_started *mutations"'
+out=$("$bin/lt-mutate" "$scene" --space primary --refine-b 0.1 --time 1 -o "$tmp/x.lts" 2>&1); code=$?
+check "--refine-b with a primary space: one error line" '[ $code -ne 0 ] && [ "$(echo "$out" | wc -l)" -eq 1 ] &&
+  echo "$out" | grep -q "large steps"'
 
 "$bin/lt-seed" "$scene" --spp 1 --paths - -o "$tmp/seed.lts" -q | \
     "$bin/lt-mutate" "$scene" - --mutations 5000 --chains 8 --startup-samples 1000 -o "$tmp/piped.lts" 2> "$tmp/err"; code=$?

@@ -1,0 +1,27 @@
+# How each rendering method of the pipelines is run: sourced by compare.sh and regions.sh, so a new tool
+# plugs in here once. Needs $bin (the tools) and $scene; extra tool options come after the arguments.
+#   render_method METHOD OUT.lts SECONDS SEED [tool options...]
+# Methods: pt, bdpt (lt-seed); mlt, pssmlt, mmlt (lt-mutate --space path | primary | multiplexed; mlt
+# seeds itself with BDPT inside its time). Methods of tools that do not exist yet are refused by name.
+known_methods="pt bdpt mlt pssmlt mmlt"
+
+render_method() {
+  local method="$1" file="$2" time="$3" seed="$4"; shift 4
+  case "$method" in
+    pt|bdpt) "$bin/lt-seed" "$scene" --method "$method" --time "$time" --seed "$seed" --snapshots doubling -o "$file" -q "$@" ;;
+    mlt|pssmlt|mmlt)
+      local space=path; [ "$method" = pssmlt ] && space=primary; [ "$method" = mmlt ] && space=multiplexed
+      "$bin/lt-mutate" "$scene" --space "$space" --time "$time" --seed "$seed" --snapshots doubling -o "$file" -q "$@" ;;
+    memlt|hslt|portal|gpt|gdpr)
+      echo "$0: method '$method' needs a part that does not exist yet (manifold/half-vector/portal mutations, lt-gradient)" >&2; return 1 ;;
+    *) echo "$0: unknown method '$method' (known: $known_methods)" >&2; return 1 ;;
+  esac
+}
+
+# Refuse unknown or not-yet-available methods before spending any time rendering.
+check_methods() {
+  local m
+  for m in "$@"; do
+    case " $known_methods " in *" $m "*) ;; *) render_method "$m" /dev/null 0 0 || return 1 ;; esac
+  done
+}

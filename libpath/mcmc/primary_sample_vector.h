@@ -7,7 +7,8 @@
 // with a symmetric kernel (the acceptance is then f*(u') / f*(u)), a coordinate read at iteration k
 // receives all the mutations it missed since it was last touched: a fresh uniform value if a large step
 // was accepted meanwhile (anything symmetric after a uniform draw stays uniform), otherwise the small
-// steps of every missed iteration (SmallStepKernel::mutate(u, n, rng)). Three interleaved streams (camera, light,
+// steps of every missed iteration (SmallStepKernel::mutate(u, n, rng)). Only accepted iterations count:
+// a rejected proposal changes no coordinate of the textbook chain. Three interleaved streams (camera, light,
 // connection) keep the subpaths' numbers apart, so a longer camera subpath does not shift the light subpath's numbers.
 #pragma once
 
@@ -71,7 +72,8 @@ private:
     Pcg32 rng_, init_;
     SmallStepKernel kernel_;
     std::vector<Coordinate> x_;
-    uint64_t iteration_ = 0, lastLargeStep_ = 0;
+    uint64_t iteration_ = 0, lastLargeStep_ = 0; // iteration_ counts accepted proposals and the current one
+    bool initial_ = true;                         // no proposal yet: reading the initial state
     bool largeStep_ = true;
     int stream_ = 0;
     size_t streamIndex_[StreamCount] = {0, 0, 0};

@@ -71,7 +71,8 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(0.0, 1.0));
     app.add_option("--startup-samples", startupSamples,
                    "independent samples that first estimate b and seed the chains (default 100000; multiplexed: per "
-                   "path length, default 20000; path space without a seed file: BDPT samples)")
+                   "path length on average, default 20000, spread in inverse proportion to the length so that "
+                   "each length gets the same work; path space without a seed file: BDPT samples)")
         ->check(CLI::PositiveNumber);
     app.add_option("--refine-b", refineB,
                    "path space: independent BDPT samples per mutation that keep refining b during the run (default "

@@ -73,7 +73,7 @@ private:
     SmallStepKernel kernel_;
     std::vector<Coordinate> x_;
     uint64_t iteration_ = 0, lastLargeStep_ = 0; // iteration_ counts accepted proposals and the current one
-    bool initial_ = true;                         // no proposal yet: reading the initial state
+    bool initial_ = true;                        // no proposal yet: reading the initial state
     bool largeStep_ = true;
     int stream_ = 0;
     size_t streamIndex_[StreamCount] = {0, 0, 0};

@@ -3,6 +3,7 @@
 #include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/task_arena.h>
 
+#include <algorithm>
 #include <chrono>
 #include <memory>
 #include <optional>
@@ -128,15 +129,22 @@ ChainRunStats runPrimarySpaceChains(const Scene& scene, const PrimarySpaceSettin
     const int threads = run.threads > 0 ? run.threads : tbb::this_task_arena::max_concurrency();
     tbb::task_arena arena(threads);
 
-    // 1. Start-up: independent primary samples, `startupSamples` per path length for multiplexed MLT.
+    // 1. Start-up: independent primary samples. Multiplexed MLT gives each path length k its own,
+    //    n_k = startupSamples x (mean length) / k: on average `startupSamples` per length, and the same work
+    //    (k + 1 rays each) for every length, so the cheap short lengths, which often carry the largest and
+    //    noisiest share of b (an emitter seen directly), get the most samples.
     const int lengths = multiplexed ? target.maxEdges() : 1;
-    const uint64_t perLength = space.startupSamples;
-    std::vector<double> weights(perLength * uint64_t(lengths), 0.0); // index (k - 1) * perLength + i
+    std::vector<uint64_t> first(size_t(lengths) + 2, 0); // samples of length k: [first[k], first[k + 1])
+    for (int k = 1; k <= lengths; ++k) {
+        const double share = multiplexed ? 0.5 * (lengths + 1) / k : 1.0;
+        first[size_t(k) + 1] = first[size_t(k)] + std::max<uint64_t>(1, uint64_t(double(space.startupSamples) * share));
+    }
+    std::vector<double> weights(first[size_t(lengths) + 1], 0.0);
     std::atomic<uint64_t> startupNonFinite{0};
     for (int k = 1; k <= lengths && !runner.stopped(); ++k) {
-        double* w = weights.data() + uint64_t(k - 1) * perLength;
+        double* w = weights.data() + first[size_t(k)];
         arena.execute([&] {
-            tbb::parallel_for(tbb::blocked_range<uint64_t>(0, perLength, 256),
+            tbb::parallel_for(tbb::blocked_range<uint64_t>(0, first[size_t(k) + 1] - first[size_t(k)], 256),
                               [&](const tbb::blocked_range<uint64_t>& r) {
                                   std::vector<ImageContribution> c;
                                   SampleHealth health;
@@ -152,13 +160,13 @@ ChainRunStats runPrimarySpaceChains(const Scene& scene, const PrimarySpaceSettin
         });
         runner.report("start-up", double(k) / lengths, 0);
     }
-    stats.startupSamples = perLength * uint64_t(lengths);
+    stats.startupSamples = weights.size();
     stats.health.nonFinite = startupNonFinite.load();
     // In index order: the same b for any thread count. Stratum = path length (multiplexed) or 0.
     stats.normalization = NormalizationEstimate(multiplexed ? size_t(lengths) + 1 : 1);
     for (int k = 1; k <= lengths; ++k)
-        for (uint64_t i = 0; i < perLength; ++i)
-            stats.normalization.add(multiplexed ? size_t(k) : 0, weights[uint64_t(k - 1) * perLength + i]);
+        for (uint64_t i = first[size_t(k)]; i < first[size_t(k) + 1]; ++i)
+            stats.normalization.add(multiplexed ? size_t(k) : 0, weights[i]);
     stats.startupSeconds = runner.elapsed();
     if (runner.stopped()) {
         stats.interrupted = true;
@@ -171,8 +179,9 @@ ChainRunStats runPrimarySpaceChains(const Scene& scene, const PrimarySpaceSettin
                     " samples: nothing for the chains to start from (raise --startup-samples, or check the scene)");
 
     // 2. q, the large steps' path lengths (multiplexed), and the chains' first states: start-up samples in
-    // proportion to f* over all lengths (each length has as many samples, so f* is the resampling weight),
-    // systematic over the chain index.
+    // proportion to the target over all lengths. A sample of length k stands for 1 / n_k of that length's
+    // integral, so its resampling weight is f* / n_k (start-up bias removal over the strata); systematic
+    // over the chain index.
     std::optional<DiscreteDistribution> lengthProposal;
     if (multiplexed) {
         double harmonic = 0;
@@ -184,6 +193,9 @@ ChainRunStats runPrimarySpaceChains(const Scene& scene, const PrimarySpaceSettin
                 (1 - LengthFloor) * stats.normalization.stratumB(size_t(k)) / b + LengthFloor / (k * harmonic);
         lengthProposal.emplace(q);
     }
+    for (int k = 1; k <= lengths; ++k)
+        for (uint64_t i = first[size_t(k)]; i < first[size_t(k) + 1]; ++i)
+            weights[i] /= double(first[size_t(k) + 1] - first[size_t(k)]);
     const DiscreteDistribution startFrom(weights);
     Pcg32 allocation = chainStream(run.seed, ~uint64_t(0));
     const double offset = allocation.nextDouble();
@@ -193,10 +205,11 @@ ChainRunStats runPrimarySpaceChains(const Scene& scene, const PrimarySpaceSettin
     for (int c = 0; c < run.chains; ++c) {
         Pcg32 rng = chainStream(run.seed, uint64_t(c));
         const size_t index = startFrom.sample((c + offset) / run.chains);
-        const int k = int(index / perLength) + 1;
+        const int k = int(std::upper_bound(first.begin() + 1, first.end(), uint64_t(index)) - first.begin()) - 1;
         chains.push_back(std::make_unique<PrimarySpaceChain>(
             target, space,
-            PrimarySampleVector(rng, startupStream(run.seed, multiplexed ? k : 0, index % perLength), space.smallStep),
+            PrimarySampleVector(rng, startupStream(run.seed, multiplexed ? k : 0, index - first[size_t(k)]),
+                                space.smallStep),
             k, lengthProposal ? &*lengthProposal : nullptr));
         if (multiplexed) ++stats.chainsPerLength[size_t(k)];
     }

@@ -1,8 +1,9 @@
 // Kelemen PSSMLT and multiplexed MLT over lt's BDPT (ALGORITHMS.md 8).
 //
 // Start-up (Veach-Guibas start-up bias removal, in primary sample space as Kelemen and pbrt-v3 do):
-// `startupSamples` independent primary samples (multiplexed MLT: that many for EVERY path length, as
-// pbrt-v3 spends them, so that each length's b_k is estimated, however small its share) give the first estimate of b =
+// `startupSamples` independent primary samples (multiplexed MLT: that many per path length on average, as
+// pbrt-v3 spends them, so that each length's b_k is estimated however small its share; spread in inverse
+// proportion to the length, the same work for each) give the first estimate of b =
 // integral of f*, and every chain starts from one of them drawn in proportion to f* (systematic over the chain index).
 // b is then refined during the run: every large step is an independent uniform sample of f*, so its value joins the
 // estimate whether it is accepted or not (mcmc/normalization.h), and the film is read with b as it then stands.
@@ -40,7 +41,7 @@ struct PrimarySpaceSettings {
     int unboundedEdges = 12;           // multiplexed: path-length bound when bdpt.maxDepth is -1
     double largeStepProbability = 0.3; // Mitsuba's default (ALGORITHMS.md 8)
     SmallStepKernel smallStep;
-    uint64_t startupSamples = 100000; // Mitsuba's luminanceSamples; multiplexed: per path length, as pbrt-v3
+    uint64_t startupSamples = 100000; // Mitsuba's luminanceSamples; multiplexed: per path length on average
                                       // (lt-mutate's default there is 20000)
 };
 

@@ -11,8 +11,8 @@ using namespace lt;
 using namespace lt::test;
 
 TEST_CASE("the chains agree with BDPT on the tiny directly visible lamp", "[mcmc][slow]") {
-    // The lamp covers less than a pixel at 24 x 24 but carries most of its block: a multiplexed chain
-    // family that gets no chain at length 1 leaves that block at the wall's value (z in the hundreds).
+    // The lamp covers less than a pixel at 24 x 24 but carries most of its block (85 % of b is length 1 at
+    // the scene's resolution): a method that loses length 1 leaves that block at the wall's value.
     auto scene = loadScene(shippedScene("tiny-lamp"));
     const int depth = scene->integrator.maxDepth;
     checkAgainstBdpt(*scene, depth, 6,

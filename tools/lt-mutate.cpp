@@ -292,8 +292,14 @@ int main(int argc, char** argv) {
         writer.finish();
 
         if (!quiet) {
-            std::cerr << "lt-mutate: b = " << b.b() << " +- " << std::setprecision(2) << 100 * b.relativeStandardError()
-                      << "% from " << b.samples() << " samples (" << stats.startupSamples
+            // A seed file's b comes without its spread: with --refine-b 0 nothing measures it.
+            const double se = b.relativeStandardError();
+            std::cerr << "lt-mutate: b = " << b.b();
+            if (std::isfinite(se))
+                std::cerr << " +- " << std::setprecision(2) << 100 * se << "%";
+            else
+                std::cerr << " (standard error unknown)";
+            std::cerr << " from " << b.samples() << " samples (" << stats.startupSamples
                       << (pathSpace ? " of the seed run" : " of the start-up") << ", "
                       << b.samples() - stats.startupSamples << " during the run)" << std::setprecision(6);
             if (pathSpace)

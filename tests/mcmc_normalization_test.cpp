@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -41,6 +42,29 @@ TEST_CASE("the normalization estimate: strata, a previous run's mean, standard e
     CHECK(seeded.b() == Approx(5));
     CHECK(seeded.samples() == 100);
     CHECK(seeded.stratumStandardError(0) == Approx(std::sqrt(2.0 / 100))); // variance of {4, 6} is 2
+}
+
+TEST_CASE("a seed file's b needs its sample count, and says which file lacks it", "[mcmc]") {
+    const auto content = [](std::vector<std::string> rows, std::vector<double> values) {
+        file::Content c;
+        c.paths.resize(3);
+        file::StatTable t{"normalization", {"value"}, std::move(rows), {}};
+        for (double v : values)
+            t.values.push_back({v});
+        c.stats.push_back(t);
+        return c;
+    };
+    const auto seeds = seedsFromFile(content({"b", "samples"}, {7.5, 4096}), "seeds.ltp");
+    CHECK(seeds.paths.size() == 3);
+    CHECK(seeds.b.b() == 7.5);
+    CHECK(seeds.b.samples() == 4096);
+    CHECK(errorOf([&] { (void)seedsFromFile(content({"b"}, {7.5}), "old.ltp"); }) ==
+          "old.ltp: no sample count of the seed run (STAT \"normalization\" row \"samples\")");
+    CHECK(errorOf([&] { (void)seedsFromFile(content({"samples"}, {10}), "nob.ltp"); }) ==
+          "nob.ltp: no normalization b (STAT \"normalization\"); was it written by lt-seed --paths?");
+    CHECK(errorOf([&] {
+              (void)seedsFromFile(content({"b", "samples"}, {std::numeric_limits<double>::quiet_NaN(), 10}), "nan.ltp");
+          }).find("nan.ltp: no normalization b") == 0);
 }
 
 TEST_CASE("missed small steps drawn at once have the variance of the steps they stand for", "[mcmc]") {

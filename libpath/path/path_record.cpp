@@ -36,6 +36,10 @@ file::VertexRecord toVertexRecord(const Scene& scene, const PathVertex& v) {
     return r;
 }
 
+double strategyWeight(const StrategyPath& path) {
+    return std::max(0.0, (path.unweighted * path.misWeight).luminance());
+}
+
 file::PathRecord toPathRecord(const Scene& scene, const StrategyPath& path, uint64_t stream, uint64_t offset) {
     file::PathRecord rec;
     rec.vertices.reserve(size_t(path.s + path.t));
@@ -52,7 +56,7 @@ file::PathRecord toPathRecord(const Scene& scene, const StrategyPath& path, uint
     rec.t = uint16_t(path.t);
     rec.contribution = {float(path.unweighted.r), float(path.unweighted.g), float(path.unweighted.b)};
     rec.misWeight = path.misWeight;
-    rec.weight = std::max(0.0, (path.unweighted * path.misWeight).luminance());
+    rec.weight = strategyWeight(path);
     rec.rngStream = stream;
     rec.rngOffset = offset;
     return rec;

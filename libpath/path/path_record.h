@@ -7,8 +7,10 @@
 
 namespace lt {
 
+// A strategy path's resampling weight: the luminance of its MIS-weighted contribution (never negative).
+[[nodiscard]] double strategyWeight(const StrategyPath& path);
 // The record of a strategy's path, light-to-eye order (records.h), with its raster position, technique,
-// unweighted contribution, MIS weight and resampling weight lum(weight * contribution). `stream` and
+// unweighted contribution, MIS weight and resampling weight strategyWeight. `stream` and
 // `offset` name the random numbers it came from (lt-seed: pixel index and pass) for replay.
 [[nodiscard]] file::PathRecord toPathRecord(const Scene& scene, const StrategyPath& path, uint64_t stream,
                                             uint64_t offset);

@@ -29,7 +29,7 @@ double cpuSeconds() { return double(std::clock()) / CLOCKS_PER_SEC; }
 } // namespace
 
 double seedWeight(const SampleFilm& film, const StrategyPath& path) {
-    const double w = std::max(0.0, (path.unweighted * path.misWeight).luminance());
+    const double w = strategyWeight(path);
     if (path.t == 1) return w;
     const double h = film.filterSum(path.raster);
     return h > 0 ? w / h : 0.0;

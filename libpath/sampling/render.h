@@ -53,8 +53,8 @@ using ProgressCallback = std::function<void(const RenderProgress&)>;
 // of the times it and later snapshots report.
 using SnapshotCallback = std::function<void(const RenderProgress&, const SampleFilm&)>;
 
-// The resampling weight of a BDPT strategy path as a seed: luminance of its MIS-weighted contribution,
-// for camera strategies divided by the sum of the pixel filters at its raster position (film.h
+// The resampling weight of a BDPT strategy path as a seed: strategyWeight (path/path_record.h), for
+// camera strategies divided by the sum of the pixel filters at its raster position (film.h
 // filterSum), so that the weights integrate f* over raster positions as the Markov chains' b does.
 [[nodiscard]] double seedWeight(const SampleFilm& film, const StrategyPath& path);
 // A BDPT strategy path as a candidate seed path: its record, weighted by seedWeight.

@@ -1,5 +1,5 @@
-// The normalization b = integral of f* over the image (Veach and Guibas 1997, Sec. 5.2; Kelemen et al. 2002,
-// Eq. 8), estimated from independent samples and refined for as long as a run goes on.
+// The normalization b = integral of f* over the image (Veach and Guibas 1997; Sik and Krivanek's MCMC
+// survey, Sec. 2.5), estimated from independent samples and refined for as long as a run goes on.
 //
 // A Markov chain only knows f* up to scale, so the image estimator (b / N) sum f / f* takes b from
 // independent samples. Fixing b once from the start-up leaves the run with a scale error that never

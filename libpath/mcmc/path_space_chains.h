@@ -1,7 +1,7 @@
 // Path-space Metropolis light transport (Veach and Guibas 1997; ALGORITHMS.md 1.4, 2): chains whose
 // states are whole paths, started from seed paths and mutated by a weighted mix of mutations.
 //
-// Start-up (Veach and Guibas 1997, Sec. 5.2, start-up bias removal): the seed paths are independent
+// Start-up (Veach and Guibas 1997's start-up bias removal; MCMC survey, Sec. 2.5): the seed paths are independent
 // draws in proportion to their weight (lt-seed --paths); a chain starts from one of them picked uniformly.
 //
 // Normalization (mcmc/normalization.h). The seed run's b is the mean of its n_s BDPT samples X_i, each

@@ -20,8 +20,8 @@
 
 namespace lt {
 
-// Kelemen's small step: u + or - s2 exp(-ln(s2 / s1) xi), wrapped to [0, 1) (Kelemen et al. 2002, Sec. 4),
-// with s1 = 1/1024 and s2 = 1/64 by default. Symmetric: the density of the offset depends on |offset| only.
+// Kelemen's small step: u + or - s2 exp(-ln(s2 / s1) xi), wrapped to [0, 1) (Kelemen et al. 2002; MCMC survey,
+// Sec. 4.1), with s1 = 1/1024 and s2 = 1/64 by default. Symmetric: the density of the offset depends on |offset| only.
 struct SmallStepKernel {
     double s1 = 1.0 / 1024.0, s2 = 1.0 / 64.0;
     [[nodiscard]] double mutate(double u, Pcg32& rng) const;

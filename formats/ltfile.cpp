@@ -730,18 +730,49 @@ const std::string& Reader::name() const { return impl_->name; }
 Content readAll(const std::string& path, std::optional<FileKind> expected) {
     Reader reader(path, expected);
     Content content;
+    content.name = reader.name();
+    content.version = reader.version();
     content.kind = reader.kind();
     content.info = reader.info();
+    const auto count = [&](const char* tag) {
+        const auto it = std::find_if(content.chunkCounts.begin(), content.chunkCounts.end(),
+                                     [&](const auto& c) { return c.first == tag; });
+        if (it == content.chunkCounts.end())
+            content.chunkCounts.emplace_back(tag, 1);
+        else
+            ++it->second;
+    };
+    count("INFO");
     for (;;) {
         Chunk chunk = reader.next();
-        if (std::holds_alternative<End>(chunk)) return content;
-        if (auto* paths = std::get_if<std::vector<PathRecord>>(&chunk))
+        if (std::holds_alternative<End>(chunk)) {
+            count("END!");
+            return content;
+        }
+        if (auto* paths = std::get_if<std::vector<PathRecord>>(&chunk)) {
+            count("PATH");
             content.paths.insert(content.paths.end(), std::make_move_iterator(paths->begin()),
                                  std::make_move_iterator(paths->end()));
-        else if (auto* buffer = std::get_if<Buffer>(&chunk)) content.buffers.push_back(std::move(*buffer));
-        else if (auto* snapshot = std::get_if<Snapshot>(&chunk)) content.snapshots.push_back(std::move(*snapshot));
-        else content.stats.push_back(std::move(std::get<StatTable>(chunk)));
+        } else if (auto* buffer = std::get_if<Buffer>(&chunk)) {
+            count("BUFR");
+            content.buffers.push_back(std::move(*buffer));
+        } else if (auto* snapshot = std::get_if<Snapshot>(&chunk)) {
+            count("SNAP");
+            content.snapshots.push_back(std::move(*snapshot));
+        } else {
+            count("STAT");
+            content.stats.push_back(std::move(std::get<StatTable>(chunk)));
+        }
     }
+}
+
+StatTable valueTable(std::string name, const std::vector<std::pair<std::string, double>>& rows) {
+    StatTable t{std::move(name), {"value"}, {}, {}};
+    for (const auto& [row, value] : rows) {
+        t.rows.push_back(row);
+        t.values.push_back({value});
+    }
+    return t;
 }
 
 std::string hashHex(uint64_t hash) {

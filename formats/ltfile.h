@@ -82,8 +82,13 @@ private:
 
 // Everything one file holds, in file order within each kind.
 struct Content {
+    std::string name;     // the path, or "<stdin>"
+    uint32_t version = 0; // the format version of the header
     FileKind kind = FileKind::Paths;
     nlohmann::json info;
+    // Known chunks by tag (INFO and END! included) with their counts, in order of first appearance:
+    // the file's table of contents for lt-inspect.
+    std::vector<std::pair<std::string, size_t>> chunkCounts;
     std::vector<PathRecord> paths;   // all PATH batches concatenated
     std::vector<Buffer> buffers;
     std::vector<Snapshot> snapshots;
@@ -91,6 +96,10 @@ struct Content {
 };
 
 [[nodiscard]] Content readAll(const std::string& path, std::optional<FileKind> expected = std::nullopt);
+
+// A STAT table of named figures in one column "value" (SPEC.md: the "run", "normalization" and
+// "reconstruct" tables), rows in the given order.
+[[nodiscard]] StatTable valueTable(std::string name, const std::vector<std::pair<std::string, double>>& rows);
 
 // The scene hash as INFO stores it: 16 lowercase hex digits.
 [[nodiscard]] std::string hashHex(uint64_t hash);

@@ -11,7 +11,7 @@ namespace lt::file {
 
 enum class FileKind : uint32_t { Paths = 1, Buffer = 2 };
 
-// One vertex of a stored light path (DESIGN.md "A path record"): enough to re-create the vertex
+// One vertex of a stored light path: enough to re-create the vertex
 // exactly in the same scene (shape + primitive + barycentrics; differential geometry is recomputed)
 // and to look at it.
 enum class VertexKind : uint8_t { Camera = 0, Light = 1, Surface = 2, PortalCrossing = 3 };

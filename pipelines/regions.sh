@@ -45,7 +45,7 @@ for m in $methods; do
     render_method "$m" "$file" "$time" "$seed" "${extra[@]}"
     for c in "${crops[@]}"; do
       "$bin/lt-error" "$file" --ref "$ref" --crop "$c" --csv "$out/.row.csv" > /dev/null
-      scale=$(awk -F, '$2 == "BUFR" { print $9 }' "$out/.row.csv")
+      scale=$(/usr/bin/python3 -c 'import csv, sys; print(*[r["scale"] for r in csv.DictReader(open(sys.argv[1])) if r["label"] == "BUFR"])' "$out/.row.csv")
       echo "$m $c $seed $scale" >> "$rows"
     done
   done

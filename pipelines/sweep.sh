@@ -2,7 +2,7 @@
 # Run one tool over a list of values of one option and tabulate error, time and efficiency against a
 # reference.
 #   pipelines/sweep.sh SCENE --ref REF.exr --option --max-depth --values 3,5,8 [--out DIR] [-- lt-seed options]
-# Example: pipelines/sweep.sh ../shared/scenes/cornell-box/scene.xml --ref ../shared/scenes/cornell-box/reference.exr \
+# Example: pipelines/sweep.sh scenes/cornell-box/scene.xml --ref scenes/cornell-box/reference.exr \
 #            --option --max-depth --values 3,5,8 -- --method pt --spp 16 --resolution 256x256
 # (the reference must have the resolution the runs have).
 set -euo pipefail

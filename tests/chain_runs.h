@@ -126,7 +126,7 @@ inline void checkAgainstBdpt(Scene& scene, int depth, int runs,
         rs.bdpt = b;
         rs.spp = 64;
         rs.seed = 100 + seed;
-        render(scene, rs, film, {}, nullptr);
+        render(scene, Bdpt(scene, b), rs, film, {}, nullptr);
         return film.develop();
     });
     for (const auto& [name, renderer] : methods) {

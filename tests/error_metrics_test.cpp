@@ -38,7 +38,7 @@ file::Buffer rgbImage(uint32_t w, uint32_t h, const std::vector<Rgb>& pixels) {
 const file::Buffer kRef22 = rgbImage(2, 2, {{1, 1, 1}, {0, 0, 0}, {1, 2, 3}, {2, 2, 2}});
 const file::Buffer kImg22 = rgbImage(2, 2, {{2, 1, 1}, {0.1f, 0, 0}, {1, 2, 4}, {2, 2, 2}});
 
-// relMSE terms, sum_c d^2 / (mean_c(ref)^2 + 0.001) ([GDPR] Sec. 5):
+// relMSE terms, sum_c d^2 / (mean_c(ref)^2 + 0.001) ([GDPR] Sec. 4):
 //   p0 1 / (1^2 + 0.001);  p1 0.1^2 / (0 + 0.001) = 10;  p2 1 / (2^2 + 0.001);  p3 0.
 const double kRelMse22 = (1 / 1.001 + 0.01 / 0.001 + 1 / 4.001 + 0) / 4;
 

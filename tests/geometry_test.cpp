@@ -133,7 +133,7 @@ TEST_CASE("differential geometry matches finite differences", "[geometry]") {
     SECTION("triangle with interpolated normals and degenerate uvs (all 0): the plane's frame as chart") {
         // veach-bidir's egg has every uv at 0. surfaceAt then charts the triangle's plane with an
         // orthonormal frame (pbrt-v3), and dn/du, dn/dv must be the derivatives of the normalized
-        // shading normal along that same chart (the manifold walks' curvature, ALGORITHMS.md 1.5).
+        // shading normal along that same chart (the manifold walks' curvature terms).
         TriangleMesh m;
         m.positions = {{0, 0, 0}, {1, 0.1f, 0}, {0.2f, 1, 0.3f}};
         m.normals = {Vec3f(normalize(Vec3(0.1, 0, 1))), Vec3f(normalize(Vec3(0.4, -0.2, 1))),

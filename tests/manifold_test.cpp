@@ -1,5 +1,5 @@
-// The manifold machinery (libpath/manifold; ALGORITHMS.md 1.5, 3.2, 3.8): specular constraints, their
-// Jacobian blocks, tangent maps, the generalized geometry term and the manifold walk.
+// The manifold machinery (libpath/manifold; Jakob & Marschner 2012, Sec. 3.3 and 4): specular
+// constraints, their Jacobian blocks, tangent maps, the generalized geometry term and the manifold walk.
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -118,7 +118,7 @@ void checkMat(const Mat2& got, const std::array<double, 4>& want) {
 } // namespace
 
 TEST_CASE("the Manifold Exploration cylinder example: grad C, T_S and G = 1/48", "[manifold]") {
-    // ME section 3.3 (ALGORITHMS.md 1.5): x2 on a mirror cylinder along z, orthonormal charts.
+    // ME section 3.3: x2 on a mirror cylinder along z, orthonormal charts.
     const ManifoldVertex x1 = chartPoint({-1, 2, 0}, {-1, 0, 0}, {0, 0, 1}, {0, -1, 0});
     ManifoldVertex x2 = chartPoint({0, 1, 0}, {1, 0, 0}, {0, 0, 1}, {0, 1, 0}, {1, 0, 0});
     const ManifoldVertex x3 = chartPoint({1, 2, 0}, {1, 0, 0}, {0, 0, 1}, {0, -1, 0});
@@ -192,7 +192,7 @@ void checkBlocksByDifferences(const Shape& shape, uint32_t prim, const Vec2& q0,
         dpdq.m[1][size_t(k)] = dot(center.dpdv, dp);
     }
     // Central differences with h = 1e-6: truncation ~h^2 times third derivatives, round-off ~1e-16/h,
-    // both far below 1e-5 of the block's largest entry even at 89.9 degrees (ALGORITHMS.md T-ME-3).
+    // both far below 1e-5 of the block's largest entry even at 89.9 degrees.
     const auto close = [](const Mat2& got, const Mat2& want) {
         const double scale = std::max(maxAbs(want), 1e-3);
         for (int r = 0; r < 2; ++r)

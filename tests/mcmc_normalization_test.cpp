@@ -11,6 +11,7 @@
 #include "image/error_metrics.h"
 #include "mcmc/normalization.h"
 #include "mcmc/primary_sample_vector.h"
+#include "sampling/seed_file.h"
 #include "test_util.h"
 
 using namespace lt;
@@ -45,8 +46,9 @@ TEST_CASE("the normalization estimate: strata, a previous run's mean, standard e
 }
 
 TEST_CASE("a seed file's b needs its sample count, and says which file lacks it", "[mcmc]") {
-    const auto content = [](std::vector<std::string> rows, std::vector<double> values) {
+    const auto content = [](std::vector<std::string> rows, std::vector<double> values, std::string name) {
         file::Content c;
+        c.name = std::move(name);
         c.paths.resize(3);
         file::StatTable t{"normalization", {"value"}, std::move(rows), {}};
         for (double v : values)
@@ -54,17 +56,41 @@ TEST_CASE("a seed file's b needs its sample count, and says which file lacks it"
         c.stats.push_back(t);
         return c;
     };
-    const auto seeds = seedsFromFile(content({"b", "samples"}, {7.5, 4096}), "seeds.ltp");
+    const auto seeds = seedsFromFile(content({"b", "samples"}, {7.5, 4096}, "seeds.ltp"));
     CHECK(seeds.paths.size() == 3);
     CHECK(seeds.b.b() == 7.5);
     CHECK(seeds.b.samples() == 4096);
-    CHECK(errorOf([&] { (void)seedsFromFile(content({"b"}, {7.5}), "old.ltp"); }) ==
+    CHECK(errorOf([&] { (void)seedsFromFile(content({"b"}, {7.5}, "old.ltp")); }) ==
           "old.ltp: no sample count of the seed run (STAT \"normalization\" row \"samples\")");
-    CHECK(errorOf([&] { (void)seedsFromFile(content({"samples"}, {10}), "nob.ltp"); }) ==
+    CHECK(errorOf([&] { (void)seedsFromFile(content({"samples"}, {10}, "nob.ltp")); }) ==
           "nob.ltp: no normalization b (STAT \"normalization\"); was it written by lt-seed --paths?");
     CHECK(errorOf([&] {
-              (void)seedsFromFile(content({"b", "samples"}, {std::numeric_limits<double>::quiet_NaN(), 10}), "nan.ltp");
+              (void)seedsFromFile(content({"b", "samples"}, {std::numeric_limits<double>::quiet_NaN(), 10}, "nan.ltp"));
           }).find("nan.ltp: no normalization b") == 0);
+}
+
+TEST_CASE("a seed file reads back with its paths, b and sample count", "[mcmc]") {
+    // Weights 1, 2, 3 repeating: 100 candidates weigh 199 in all; from 400 samples over 16 pixels,
+    // b = 199 * 16 / 400.
+    SeedReservoir reservoir(8, 1);
+    for (int i = 0; i < 100; ++i) {
+        file::PathRecord rec;
+        rec.weight = 1 + i % 3;
+        rec.vertices.resize(2);
+        reservoir.add(rec);
+    }
+    test::TempDir dir;
+    const std::string name = dir.file("seeds.ltp");
+    file::Writer writer(name, file::FileKind::Paths, nlohmann::json::object());
+    const auto written = writeSeedFile(writer, reservoir, 400, 16);
+    CHECK(written.b == Approx(199.0 * 16 / 400));
+    CHECK(written.kept == 8);
+    const SeedFile back = readSeedFile(file::readAll(name, file::FileKind::Paths));
+    CHECK(back.paths.size() == 8);
+    CHECK(back.b == written.b);
+    CHECK(back.samples == 400);
+    for (const auto& p : back.paths)
+        CHECK(p.vertices.size() == 2);
 }
 
 TEST_CASE("missed small steps drawn at once have the variance of the steps they stand for", "[mcmc]") {
@@ -129,7 +155,7 @@ TEST_CASE("over 16 seeds the chains' image means on cornell-box agree with BDPT 
     // -9 % (-3.7 standard errors). The BDPT reference: 8 runs of 32 spp. A space passes when its mean over
     // the seeds is within 3 standard errors (seeds' spread and BDPT's, combined) of BDPT's, and the relative
     // standard deviation of its 16 means is at most 2 %.
-    auto scene = loadScene(sharedScene("cornell-box"));
+    auto scene = loadScene(shippedScene("cornell-box"));
     scene->camera = scene->camera.withResolution(64, 64);
     const int depth = scene->integrator.maxDepth;
     const auto mean = [](const std::vector<float>& rgb) {
@@ -146,7 +172,7 @@ TEST_CASE("over 16 seeds the chains' image means on cornell-box agree with BDPT 
         rs.bdpt.rrDepth = scene->integrator.rrDepth;
         rs.spp = 32;
         rs.seed = 1000 + seed;
-        render(*scene, rs, film, {}, nullptr);
+        render(*scene, Bdpt(*scene, rs.bdpt), rs, film, {}, nullptr);
         bdpt.push_back(mean(film.develop()));
     }
     const auto reference = meanAndError(bdpt);
@@ -227,8 +253,8 @@ TEST_CASE("a long MMLT run's relMSE keeps falling as 1 / mutations", "[mcmc][slo
         points += std::string(k ? "," : "") + std::to_string(1 << k);
     rs.snapshots = SnapshotSchedule::parseSamples(points);
     std::vector<double> logN, logE;
-    const ChainSnapshotCallback snapshot = [&](const ChainRunProgress& p, const file::Buffer& image) {
-        logN.push_back(std::log(double(p.mutations)));
+    const RunSnapshotCallback snapshot = [&](const RunProgress& p, const file::Buffer& image) {
+        logN.push_back(std::log(double(p.samples)));
         logE.push_back(std::log(reference.error(image, "snapshot", ErrorOptions{}).value));
     };
     const auto st = runPrimarySpaceChains(*scene, ps, rs, film, {}, nullptr, snapshot);

@@ -1,4 +1,4 @@
-// Stationarity of the path-space chains on a tiny path space (ALGORITHMS.md 10.8): paths light -> glossy
+// Stationarity of the path-space chains on a tiny path space: paths light -> glossy
 // patch -> camera, two planar patches and a pinhole. The fraction of its states a chain spends in each
 // cell of (glossy vertex) x (half of the light) must match the integral of f* over that cell divided by
 // b = the integral of f* over all paths. A wrong transition density or acceptance ratio of any mutation

@@ -88,10 +88,10 @@ TEST_CASE("Kelemen's small step is symmetric and bounded", "[mcmc]") {
 }
 
 TEST_CASE("stationarity on a tiny primary space whose dimension changes with the state", "[mcmc]") {
-    // ALGORITHMS.md 10.8 with a target whose second coordinate is read only on half the space:
-    // f(u) = 3 u1^2 where u0 < 1/2 (u1 read), and 1 elsewhere (u1 not read). The chain must visit
-    // u0 < 1/2 half of the time and, there, u1 with density 3 u1^2: this needs the missed small steps
-    // and large steps of the unread coordinate (mcmc/primary_sample_vector.h).
+    // Stationarity (as in mcmc_stationarity_test.cpp) with a target whose second coordinate is read only
+    // on half the space: f(u) = 3 u1^2 where u0 < 1/2 (u1 read), and 1 elsewhere (u1 not read). The chain
+    // must visit u0 < 1/2 half of the time and, there, u1 with density 3 u1^2: this needs the missed small
+    // steps and large steps of the unread coordinate (mcmc/primary_sample_vector.h).
     const int chains = 48, steps = 40000, bins = 4;
     std::vector<std::vector<double>> hist(bins + 1, std::vector<double>(chains, 0.0)); // bins of u1, then u0 >= 1/2
     for (int c = 0; c < chains; ++c) {
@@ -180,11 +180,11 @@ TEST_CASE("chains are bit-identical whatever the thread count", "[mcmc]") {
 }
 
 TEST_CASE("bidirectional mutation: the density it samples with is the one T(x -> y) is computed from", "[mcmc]") {
-    // ALGORITHMS.md 10.7: for many current paths, propose, and compare the density the proposal
+    // For many current paths, propose, and compare the density the proposal
     // multiplied while sampling with the one recomputed from the two paths alone; on a scene with glass
     // and mirror spheres (specular vertices in both directions) and on the diffuse cornell-box.
     for (const std::string name : {"cornell-spheres", "cornell-box"}) {
-        auto scene = loadScene(name == "cornell-box" ? test::sharedScene(name) : test::shippedScene(name));
+        auto scene = loadScene(test::shippedScene(name));
         scene->camera = scene->camera.withResolution(32, 32);
         BdptSettings b;
         b.maxDepth = 8;
@@ -249,17 +249,17 @@ TEST_CASE("bidirectional mutation: the density it samples with is the one T(x ->
     }
 }
 
-TEST_CASE("PSSMLT, MMLT and path-space MLT converge to BDPT on the shared cornell-box", "[mcmc][slow]") {
-    auto scene = loadScene(test::sharedScene("cornell-box"));
+TEST_CASE("PSSMLT, MMLT and path-space MLT converge to BDPT on the public cornell-box", "[mcmc][slow]") {
+    auto scene = loadScene(test::shippedScene("cornell-box"));
     checkAgainstBdpt(*scene, 4, 6,
                      {{"PSSMLT", primaryRuns(*scene, PrimarySpace::Kelemen, 4)},
                       {"MMLT", primaryRuns(*scene, PrimarySpace::Multiplexed, 4)},
                       {"path-space MLT", pathRuns(*scene, "bidirectional", 4)}});
 }
 
-TEST_CASE("PSSMLT, MMLT and path-space MLT converge to BDPT on the shared veach-bidir", "[mcmc][slow]") {
+TEST_CASE("PSSMLT, MMLT and path-space MLT converge to BDPT on the public veach-bidir", "[mcmc][slow]") {
     // The glass egg's caustic and the lamps' small lights: the scene the chains are meant for.
-    auto scene = loadScene(test::sharedScene("veach-bidir"));
+    auto scene = loadScene(test::shippedScene("veach-bidir"));
     checkAgainstBdpt(*scene, 5, 6,
                      {{"PSSMLT", primaryRuns(*scene, PrimarySpace::Kelemen, 5)},
                       {"MMLT", primaryRuns(*scene, PrimarySpace::Multiplexed, 5)},
@@ -323,7 +323,7 @@ TEST_CASE("a seed path's f / p recomputed from scratch equals the BDPT contribut
     CHECK(bad <= checked / 100);
 }
 
-// ---- Veach's perturbations (ALGORITHMS.md 2.2-2.4, 2.6) ----
+// ---- Veach's perturbations (Veach thesis 11.4.3-11.4.4) ----
 
 namespace {
 
@@ -339,7 +339,7 @@ std::unique_ptr<Mutation> makePerturbation(const std::string& name, const Scene&
 
 TEST_CASE("lens, caustic, multi-chain perturbations, lens subpath: the density sampled is the T(x -> y) computed",
           "[mcmc]") {
-    // ALGORITHMS.md 2.6 and 10.7: from seed paths of each perturbation's type, propose; the density multiplied
+    // From seed paths of each perturbation's type, propose; the density multiplied
     // while tracing (camera raster or turned direction, then the specular chain with the lobes fixed) must
     // be the one recomputed from y alone, and both Q finite. Detailed balance: the reverse move's parameters
     // rebuilt from the two paths (raster offset |u - u'|, angle between the old and new directions, the
@@ -449,12 +449,12 @@ TEST_CASE("lens, caustic, multi-chain perturbations, lens subpath: the density s
 }
 
 TEST_CASE("each perturbation mixed with the bidirectional mutation converges to BDPT", "[mcmc][slow]") {
-    // ALGORITHMS.md 2.6: the lens perturbation on the diffuse cornell-box and on the spheres, the caustic and
+    // The lens perturbation on the diffuse cornell-box and on the spheres, the caustic and
     // multi-chain perturbations where their paths occur (glass and mirror spheres), the lens-subpath
     // mutation through the spheres seen by the camera. Each must also have moved the chains.
     std::vector<MutationStatistics> stats(5);
     {
-        auto scene = loadScene(test::sharedScene("cornell-box"));
+        auto scene = loadScene(test::shippedScene("cornell-box"));
         checkAgainstBdpt(*scene, 4, 6, {{"bidirectional,lens", pathRuns(*scene, "bidirectional,lens", 4, &stats[0])}});
     }
     auto scene = loadScene(test::shippedScene("cornell-spheres"));

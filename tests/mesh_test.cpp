@@ -151,13 +151,8 @@ TEST_CASE("OBJ: degenerate triangles are removed and counted; an all-degenerate 
 }
 
 TEST_CASE("OBJ: the veach-bidir meshes load with plausible counts", "[mesh]") {
-    // The scene lives in the repository's scenes/ once imported, and in the shared scene folder before.
-    fs::path models = fs::path(LT_SOURCE_DIR) / "scenes/veach-bidir/models";
-    if (!fs::exists(models)) models = "/work/shared/scenes/veach-bidir/models";
-    if (!fs::exists(models)) {
-        WARN("veach-bidir models not found; skipped");
-        return;
-    }
+    const fs::path models = fs::path(LT_SOURCE_DIR) / "scenes/veach-bidir/models";
+    REQUIRE(fs::exists(models));
     size_t files = 0;
     for (const auto &entry : fs::directory_iterator(models)) {
         if (entry.path().extension() != ".obj") continue;

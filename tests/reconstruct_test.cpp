@@ -1,4 +1,4 @@
-// reconstruct/: the screened Poisson reconstruction (ALGORITHMS.md 7 "Tests"): exact recovery from exact
+// reconstruct/: the screened Poisson reconstruction: exact recovery from exact
 // gradients, Ceres, Eigen CG and the cosine transform against an Eigen sparse solve of the normal
 // equations, Eigen CG against Ceres for L1, auto's choice of solver, unbiasedness of L2 over many noise
 // draws against the variance the linear solve implies, L1's robustness to outliers (also with the cosine
@@ -106,7 +106,7 @@ bool allFinite(const file::Buffer& b) {
 }
 
 // The forward-difference operators as sparse matrices, one row per difference inside the image (the
-// last column of Dx and last row of Dy are absent, ALGORITHMS.md 7 "Inputs").
+// last column of Dx and last row of Dy are absent: those differences would leave the image).
 struct Operators {
     Eigen::SparseMatrix<double> Dx, Dy;
     std::vector<size_t> xRows, yRows; // the pixel each row belongs to
@@ -138,8 +138,8 @@ Operators differenceOperators(uint32_t w, uint32_t h) {
     return op;
 }
 
-// The normal equations of the L2 problem, (alpha^2 1 + Dx^T Dx + Dy^T Dy) I = alpha^2 P + Dx^T Gx + Dy^T Gy
-// (ALGORITHMS.md 7), solved by Eigen's sparse LDL^T in double precision: an independent reference for
+// The normal equations of the L2 problem, (alpha^2 1 + Dx^T Dx + Dy^T Dy) I = alpha^2 P + Dx^T Gx + Dy^T Gy,
+// solved by Eigen's sparse LDL^T in double precision: an independent reference for
 // Ceres and the cosine transform.
 std::array<Eigen::VectorXd, 3> referenceSolution(const GradientImage& im, double alpha) {
     const Operators op = differenceOperators(im.width, im.height);

@@ -42,12 +42,11 @@ std::vector<float> renderImage(const Scene& scene, PixelMethod method, int spp, 
                                int threads = 2) {
     SampleFilm film(scene.camera);
     RenderSettings rs;
-    rs.method = method;
     rs.bdpt = b;
     rs.spp = spp;
     rs.seed = seed;
     rs.threads = threads;
-    const RenderStats st = render(scene, rs, film, {}, nullptr);
+    const RenderStats st = render(scene, *makePixelEstimator(method, scene, b), rs, film, {}, nullptr);
     REQUIRE(st.health.nonFinite == 0);
     return film.develop();
 }
@@ -200,8 +199,8 @@ TEST_CASE("a diffuse plane under a point light: L = rho/pi I cos / d^2", "[rende
     }
 }
 
-TEST_CASE("BDPT and path tracing agree on the shared cornell-box", "[render]") {
-    const auto scene = loadScene(test::sharedScene("cornell-box"));
+TEST_CASE("BDPT and path tracing agree on the public cornell-box", "[render]") {
+    const auto scene = loadScene(test::shippedScene("cornell-box"));
     scene->camera = scene->camera.withResolution(36, 36);
     const int runs = 6;
     // Mean luminance of each of the 3 x 3 regions of the image, per independent run (seed).
@@ -258,7 +257,7 @@ TEST_CASE("the film merges splat lists in parallel bands exactly as one after an
     f.filter.radius = 2;
     const PerspectiveCamera camera(Transform(), 45, FovAxis::X, f, 0.01);
     Pcg32 rng(3, 4);
-    std::vector<std::vector<TileResult::Splat>> lists(7);
+    std::vector<std::vector<Splat>> lists(7);
     for (auto& list : lists)
         for (int i = 0; i < 400; ++i) {
             const double y = i % 5 == 0 ? f.cropY + 16 * (i % 3) + 0.5 * (i % 2) : f.cropY - 4 + rng.nextDouble() * 46;
@@ -266,7 +265,7 @@ TEST_CASE("the film merges splat lists in parallel bands exactly as one after an
                             Spectrum(rng.nextDouble(), rng.nextDouble() * 1e3, rng.nextDouble() * 1e-3)});
         }
     SampleFilm serial(camera), banded(camera);
-    std::vector<const std::vector<TileResult::Splat>*> pointers;
+    std::vector<const std::vector<Splat>*> pointers;
     for (const auto& list : lists) {
         TileResult t;
         t.splats = list;

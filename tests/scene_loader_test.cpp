@@ -1,5 +1,5 @@
-// The Mitsuba XML loader: the shared and shipped scenes, every element kind, and every kind of bad
-// input with its exact error line.
+// The Mitsuba XML loader: the shipped scenes (the three public ones among them), every element kind, and every kind of
+// bad input with its exact error line.
 #include <catch2/catch.hpp>
 
 #include <OpenImageIO/imageio.h>
@@ -45,9 +45,9 @@ void writeExr(const std::string& path, int w, int h, float value) {
 
 } // namespace
 
-TEST_CASE("the three shared scenes load unmodified", "[loader]") {
+TEST_CASE("the three public scenes load unmodified", "[loader]") {
     SECTION("cornell-box") {
-        const auto s = loadScene(test::sharedScene("cornell-box"));
+        const auto s = loadScene(test::shippedScene("cornell-box"));
         CHECK(s->shapes.size() == 8);
         CHECK(s->emitters.size() == 1);
         CHECK(s->camera.film().width == 1024);
@@ -67,7 +67,7 @@ TEST_CASE("the three shared scenes load unmodified", "[loader]") {
         CHECK(s->bounds.hi.y == Approx(2).margin(1e-5));
     }
     SECTION("veach-mis") {
-        const auto s = loadScene(test::sharedScene("veach-mis"));
+        const auto s = loadScene(test::shippedScene("veach-mis"));
         CHECK(s->shapes.size() == 9);
         CHECK(s->emitters.size() == 3);
         CHECK(s->integrator.maxDepth == 3);
@@ -79,7 +79,7 @@ TEST_CASE("the three shared scenes load unmodified", "[loader]") {
         CHECK_FALSE(f.specularChains);
     }
     SECTION("veach-bidir") {
-        const auto s = loadScene(test::sharedScene("veach-bidir"));
+        const auto s = loadScene(test::shippedScene("veach-bidir"));
         CHECK(s->shapes.size() == 14);
         CHECK(s->emitters.size() == 2);
         CHECK(s->integrator.maxDepth == 7);

@@ -5,6 +5,7 @@
 
 #include "image/error_metrics.h"
 #include "math/error.h"
+#include "sampling/path_tracer.h"
 #include "sampling/render.h"
 #include "scene/scene.h"
 #include "test_util.h"
@@ -48,12 +49,13 @@ TEST_CASE("snapshots: increasing times, and the last one equals the final image"
     rs.spp = 4;
     rs.bdpt.maxDepth = 4;
     rs.snapshots = SnapshotSchedule::parseSamples("1,2,4");
-    std::vector<RenderProgress> at;
-    std::vector<std::vector<float>> images;
-    const RenderStats st = render(*scene, rs, film, {}, nullptr, nullptr, [&](const RenderProgress& p, const SampleFilm& f) {
-        at.push_back(p);
-        images.push_back(f.develop());
-    });
+    std::vector<RunProgress> at;
+    std::vector<std::vector<std::vector<float>>> images;
+    const RenderStats st = render(*scene, Bdpt(*scene, rs.bdpt), rs, film, {}, nullptr, nullptr,
+                                  [&](const RunProgress& p, const file::Buffer& image) {
+                                      at.push_back(p);
+                                      images.push_back(image.planes);
+                                  });
     REQUIRE(at.size() == 3);
     CHECK(st.snapshots == 3);
     for (size_t i = 1; i < at.size(); ++i) {
@@ -62,7 +64,7 @@ TEST_CASE("snapshots: increasing times, and the last one equals the final image"
     }
     CHECK(at[0].passesDone == 1);
     CHECK(at[2].samples == 4u * 16u * 16u);
-    CHECK(images.back() == film.develop());
+    CHECK(images.back() == film.toBuffer().planes);
     CHECK(images.front() != images.back());
 }
 
@@ -89,15 +91,15 @@ TEST_CASE("the error of path tracing falls as 1/samples: log-log slope near -1",
     const ErrorReference reference(ref, "analytic");
     SampleFilm film(scene->camera);
     RenderSettings rs;
-    rs.method = PixelMethod::PathTracing;
     rs.spp = 256;
     rs.bdpt.maxDepth = 3;
     rs.snapshots = SnapshotSchedule::parseSamples("4,8,16,32,64,128,256");
     std::vector<double> logN, logE;
-    (void)render(*scene, rs, film, {}, nullptr, nullptr, [&](const RenderProgress& p, const SampleFilm& f) {
-        logN.push_back(std::log(double(p.passesDone)));
-        logE.push_back(std::log(reference.error(f.toBuffer(), "render", ErrorOptions{}).value));
-    });
+    (void)render(*scene, PathTracer(*scene, rs.bdpt), rs, film, {}, nullptr, nullptr,
+                 [&](const RunProgress& p, const file::Buffer& image) {
+                     logN.push_back(std::log(double(p.passesDone)));
+                     logE.push_back(std::log(reference.error(image, "render", ErrorOptions{}).value));
+                 });
     REQUIRE(logN.size() == 7);
     // Least-squares slope. Each relMSE is a mean over 576 pixels: relative spread ~ sqrt(2/576) = 6 %,
     // i.e. 0.06 in log; over a log range of ln(64) = 4.2 the slope's error is a few hundredths. 0.15

@@ -38,10 +38,7 @@ struct TempDir {
     [[nodiscard]] std::string file(const std::string& name) const { return (path / name).string(); }
 };
 
-// The shared public scenes (cornell-box, veach-mis, veach-bidir) beside the repository.
-inline std::string sharedScene(const std::string& name) {
-    return std::string(LT_SOURCE_DIR) + "/../shared/scenes/" + name + "/scene.xml";
-}
+// A scene of the repository's scenes/ folder, by its folder name.
 inline std::string shippedScene(const std::string& name) {
     return std::string(LT_SOURCE_DIR) + "/scenes/" + name + "/scene.xml";
 }

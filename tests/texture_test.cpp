@@ -14,7 +14,7 @@
 
 #include "math/error.h"
 #include "test_util.h"
-#include "scene/texture.h"
+#include "texture/texture.h"
 
 namespace fs = std::filesystem;
 using namespace lt;

@@ -13,7 +13,6 @@
 #include <span>
 #include <sstream>
 #include <type_traits>
-#include <variant>
 
 #include "bsdf/bsdf.h"
 #include "common/info.h"
@@ -151,51 +150,6 @@ bool isLtFile(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
     std::array<char, 4> magic{};
     return in.read(magic.data(), 4) && std::string(magic.data(), 4) == std::string("LTF\x01", 4);
-}
-
-// Everything in a file, plus what readAll forgets: the format version and how many chunks of each tag.
-struct LtFile {
-    std::string name;
-    uint32_t version = 0;
-    lt::file::Content content;
-    std::vector<std::pair<std::string, size_t>> chunks; // tag, count; in order of first appearance
-};
-
-LtFile readLtFile(const std::string& path) {
-    lt::file::Reader reader(path);
-    LtFile f{reader.name(), reader.version(), {reader.kind(), reader.info(), {}, {}, {}, {}}, {{"INFO", 1}}};
-    auto count = [&](const std::string& tag) {
-        const auto it = std::find_if(f.chunks.begin(), f.chunks.end(), [&](const auto& c) { return c.first == tag; });
-        if (it == f.chunks.end())
-            f.chunks.emplace_back(tag, 1);
-        else
-            ++it->second;
-    };
-    for (bool end = false; !end;) {
-        std::visit(
-            [&](auto&& chunk) {
-                using T = std::decay_t<decltype(chunk)>;
-                if constexpr (std::is_same_v<T, std::vector<lt::file::PathRecord>>) {
-                    count("PATH");
-                    for (auto& p : chunk)
-                        f.content.paths.push_back(std::move(p));
-                } else if constexpr (std::is_same_v<T, lt::file::Buffer>) {
-                    count("BUFR");
-                    f.content.buffers.push_back(std::move(chunk));
-                } else if constexpr (std::is_same_v<T, lt::file::Snapshot>) {
-                    count("SNAP");
-                    f.content.snapshots.push_back(std::move(chunk));
-                } else if constexpr (std::is_same_v<T, lt::file::StatTable>) {
-                    count("STAT");
-                    f.content.stats.push_back(std::move(chunk));
-                } else {
-                    count("END!");
-                    end = true;
-                }
-            },
-            reader.next());
-    }
-    return f;
 }
 
 std::string num(double v) {
@@ -339,15 +293,15 @@ nlohmann::json pathJson(size_t index, const lt::file::PathRecord& p) {
             {"vertices", vertices}};
 }
 
-nlohmann::json fileJson(const LtFile& f, std::optional<size_t> pathLimit) {
-    const auto& c = f.content;
+nlohmann::json fileJson(const lt::file::Content& f, std::optional<size_t> pathLimit) {
+    const auto& c = f;
     nlohmann::json j;
     j["kind"] = kindText(c.kind);
     j["file"] = f.name;
     j["format_version"] = f.version;
     j["info"] = c.info;
     j["chunks"] = nlohmann::json::object();
-    for (const auto& [tag, n] : f.chunks)
+    for (const auto& [tag, n] : f.chunkCounts)
         j["chunks"][tag] = n;
     j["buffers"] = nlohmann::json::array();
     for (const auto& b : c.buffers)
@@ -394,8 +348,8 @@ void printBuffer(const std::string& label, const lt::file::Buffer& b) {
     printTable(rows, "           ");
 }
 
-void printFile(const LtFile& f, bool histogram) {
-    const auto& c = f.content;
+void printFile(const lt::file::Content& f, bool histogram) {
+    const auto& c = f;
     const auto& info = c.info;
     auto row = [](const std::string& k, const std::string& v) {
         std::cout << std::left << std::setw(11) << k << v << '\n';
@@ -426,7 +380,7 @@ void printFile(const LtFile& f, bool histogram) {
         row("scene", info["scene"].value("path", std::string("?")) + "  (hash " +
                          info["scene"].value("hash", std::string("?")) + ")");
     std::string chunks;
-    for (const auto& [tag, n] : f.chunks)
+    for (const auto& [tag, n] : f.chunkCounts)
         chunks += (chunks.empty() ? "" : ", ") + tag + " " + std::to_string(n);
     row("chunks", chunks);
     for (size_t i = 0; i < c.buffers.size(); ++i)
@@ -527,15 +481,15 @@ int main(int argc, char** argv) {
             if (!defines.empty() && !manifold)
                 throw lt::Error("-D applies to scenes (and to --manifold's scene); " + file + " is an lt file");
             if (!manifoldScene.empty() && !manifold) throw lt::Error("--scene goes with --manifold");
-            const LtFile f = readLtFile(file);
-            if ((paths || histogram || !objOut.empty()) && f.content.kind != lt::file::FileKind::Paths)
+            const lt::file::Content f = lt::file::readAll(file);
+            if ((paths || histogram || !objOut.empty()) && f.kind != lt::file::FileKind::Paths)
                 throw lt::Error(f.name + ": --paths, --obj and --histogram need a paths file, this is a buffer file");
-            if (manifold && f.content.kind != lt::file::FileKind::Paths)
+            if (manifold && f.kind != lt::file::FileKind::Paths)
                 throw lt::Error(f.name + ": --manifold needs a paths file, this is a buffer file");
-            const std::span<const lt::file::PathRecord> all(f.content.paths);
+            const std::span<const lt::file::PathRecord> all(f.paths);
             if (manifold) {
                 if (json) throw lt::Error("--manifold prints text only");
-                const auto& info = f.content.info;
+                const auto& info = f.info;
                 const std::string scenePath =
                     !manifoldScene.empty() ? manifoldScene
                     : info.contains("scene") && info["scene"].is_object() ? info["scene"].value("path", std::string())

@@ -1,4 +1,4 @@
-// lt-mutate: Markov-chain Monte Carlo rendering (ALGORITHMS.md 1.4, 2, 8): path-space MLT started from
+// lt-mutate: Markov-chain Monte Carlo rendering: path-space MLT (Veach and Guibas 1997) started from
 // seed paths, Kelemen's primary-sample-space MLT and multiplexed MLT over lt's BDPT, with per-strategy
 // statistics, snapshots and Ctrl-C.
 #include <chrono>
@@ -9,6 +9,7 @@
 #include "common/info.h"
 #include "common/interrupt.h"
 #include "common/progress.h"
+#include "common/run_output.h"
 #include "common/scene_options.h"
 #include "common/tool.h"
 #include "formats/ltfile.h"
@@ -48,11 +49,7 @@ int main(int argc, char** argv) {
                    "path (default; Veach-Guibas MLT), primary (Kelemen PSSMLT) or multiplexed "
                    "(Hachisuka MMLT)")
         ->check(CLI::IsMember({"primary", "multiplexed", "path"}));
-    app.add_option("--strategies", strategies,
-                   "path-space mutations: auto (bidirectional, lens, and caustic and multi-chain where the "
-                   "scene has specular chains) or NAME[:WEIGHT],... of bidirectional (required), lens, caustic, "
-                   "multi-chain, lens-subpath (Veach's fresh lens subpath through a random pixel; not in auto); "
-                   "weights default to 1; primary spaces have their own two: large step and small step");
+    app.add_option("--strategies", strategies, lt::strategiesHelp());
     app.add_option("--mutations", mutations, "total mutations over all chains")->check(CLI::PositiveNumber);
     app.add_option("--mutations-per-pixel", mutationsPerPixel, "total mutations as a multiple of the pixel count")
         ->check(CLI::PositiveNumber);
@@ -122,9 +119,8 @@ int main(int argc, char** argv) {
         double seedB = -1;
         if (!seedsPath.empty()) {
             auto content = lt::file::readAll(seedsPath, lt::file::FileKind::Paths);
-            const std::string name = seedsPath == "-" ? "<stdin>" : seedsPath;
-            lt::file::checkSceneHash(content.info, scene->contentHash, name, scenePath);
-            seeds = lt::seedsFromFile(std::move(content), name);
+            lt::file::checkSceneHash(content.info, scene->contentHash, content.name, scenePath);
+            seeds = lt::seedsFromFile(std::move(content));
             seedB = seeds.b.b();
             if (space != "path" && !quiet)
                 std::cerr << "lt-mutate: --space " << space << " starts its chains from its own start-up samples; the "
@@ -211,27 +207,8 @@ int main(int argc, char** argv) {
 
         lt::tool::installInterruptHandler();
         lt::tool::Progress progress("lt-mutate", quiet);
-        const lt::ChainProgressCallback onProgress = [&](const lt::ChainRunProgress& p) {
-            std::ostringstream d;
-            if (std::string(p.phase) == "start-up") {
-                d << "start-up, " << formatSeconds(p.wallSeconds);
-            } else {
-                d << std::setprecision(3) << double(p.mutations) / pixels << " mutations/pixel, "
-                  << formatSeconds(p.wallSeconds);
-                if (p.fraction > 0.02 && p.fraction < 1)
-                    d << ", " << formatSeconds(p.wallSeconds * (1 / p.fraction - 1)) << " left";
-            }
-            progress.update(p.fraction, d.str());
-        };
-        const lt::ChainSnapshotCallback onSnapshot = [&](const lt::ChainRunProgress& p, const lt::file::Buffer& image) {
-            lt::file::Snapshot snap;
-            snap.wallSeconds = p.wallSeconds;
-            snap.cpuSeconds = p.cpuSeconds;
-            snap.samples = p.mutations;
-            snap.overheadSeconds = p.snapshotSeconds;
-            snap.buffer = image;
-            writer.writeSnapshot(snap);
-        };
+        const lt::RunProgressCallback onProgress = lt::tool::runProgress(progress, pixels, "mutations/pixel");
+        const lt::RunSnapshotCallback onSnapshot = lt::tool::snapshotWriter(writer);
         lt::ChainRunStats stats;
         rs.start = std::chrono::steady_clock::now(); // seeding counts toward the run's time
         if (pathSpace) {
@@ -260,7 +237,7 @@ int main(int argc, char** argv) {
 
         const lt::NormalizationEstimate& b = stats.normalization;
         writer.writeBuffer(film.toBuffer(b.b()));
-        writer.writeStats(lt::tool::valueTable("run", {{"mutations", double(stats.mutations)},
+        writer.writeStats(lt::file::valueTable("run", {{"mutations", double(stats.mutations)},
                                                        {"mutations_per_pixel", double(stats.mutations) / pixels},
                                                        {"chains", double(chains)},
                                                        {"wall_seconds", stats.wallSeconds},
@@ -277,7 +254,7 @@ int main(int argc, char** argv) {
                                                             {"startup_samples", double(stats.startupSamples)}};
         if (pathSpace) norm.emplace_back("unusable_seeds", double(stats.unusableSeeds));
         if (seedB >= 0) norm.emplace_back("b_seed_file", seedB);
-        writer.writeStats(lt::tool::valueTable("normalization", norm));
+        writer.writeStats(lt::file::valueTable("normalization", norm));
         writer.writeStats(stats.strategies.table());
         if (!pathSpace && ps.space == lt::PrimarySpace::Multiplexed) {
             lt::file::StatTable lengths{

@@ -1,6 +1,6 @@
 // lt-reconstruct: the last stage of gradient-domain rendering, a screened Poisson reconstruction (L2 or
 // L1) of an image from its noisy primal and noisy gradients, solved with Ceres, Eigen CG or the cosine
-// transform (ALGORITHMS.md 7).
+// transform.
 #include <filesystem>
 #include <iostream>
 #include <optional>
@@ -44,7 +44,7 @@ nlohmann::json toJson(const lt::ReconstructStatistics& s) {
 // and the solver a code (1 Ceres sparse normal Cholesky, 2 Ceres CGNR, 3 Eigen CG, 4 DCT); INFO has them as
 // names.
 lt::file::StatTable toStatTable(const lt::ReconstructStatistics& s) {
-    return lt::tool::valueTable("reconstruct", {{"norm", s.norm == "l1" ? 1.0 : 2.0},
+    return lt::file::valueTable("reconstruct", {{"norm", s.norm == "l1" ? 1.0 : 2.0},
                                                 {"alpha", s.alpha},
                                                 {"irls_iterations", double(s.irlsIterations)},
                                                 {"solves", double(s.solves)},

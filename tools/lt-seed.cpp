@@ -8,10 +8,12 @@
 #include "common/info.h"
 #include "common/interrupt.h"
 #include "common/progress.h"
+#include "common/run_output.h"
 #include "common/scene_options.h"
 #include "common/tool.h"
 #include "formats/ltfile.h"
 #include "sampling/render.h"
+#include "sampling/seed_file.h"
 
 using lt::tool::formatSeconds;
 
@@ -68,7 +70,6 @@ int main(int argc, char** argv) {
         auto scene = lt::tool::loadSceneWithOptions("lt-seed", scenePath, defines, resolution, quiet);
 
         lt::RenderSettings rs;
-        rs.method = method == "pt" ? lt::PixelMethod::PathTracing : lt::PixelMethod::Bdpt;
         rs.bdpt.maxDepth = maxDepth != -2 ? maxDepth : scene->integrator.maxDepth;
         rs.bdpt.rrDepth = rrDepth > 0 ? rrDepth : scene->integrator.rrDepth;
         rs.bdpt.mis = mis == "balance" ? lt::MisHeuristic::Balance : lt::MisHeuristic::Power;
@@ -116,37 +117,18 @@ int main(int argc, char** argv) {
         lt::tool::installInterruptHandler();
         lt::SampleFilm film(scene->camera);
         lt::tool::Progress progress("lt-seed", quiet);
+        const auto estimator = lt::makePixelEstimator(
+            method == "pt" ? lt::PixelMethod::PathTracing : lt::PixelMethod::Bdpt, *scene, rs.bdpt);
         const auto stats = lt::render(
-            *scene, rs, film,
-            [&](const lt::RenderProgress& p) {
-                std::ostringstream d;
-                d << p.passesDone << " spp, " << formatSeconds(p.wallSeconds);
-                double fraction = -1;
-                if (p.totalSamples > 0) {
-                    fraction = double(p.samples) / double(p.totalSamples);
-                    if (fraction > 0.02) d << ", " << formatSeconds(p.wallSeconds * (1 / fraction - 1)) << " left";
-                } else if (timeLimit > 0) {
-                    fraction = std::min(1.0, p.wallSeconds / timeLimit);
-                }
-                progress.update(fraction, d.str());
-            },
-            &lt::tool::stopRequested(), reservoir ? &*reservoir : nullptr,
-            [&](const lt::RenderProgress& p, const lt::SampleFilm& f) {
-                lt::file::Snapshot snap;
-                snap.wallSeconds = p.wallSeconds;
-                snap.cpuSeconds = p.cpuSeconds;
-                snap.samples = p.samples;
-                snap.overheadSeconds = p.snapshotSeconds;
-                snap.buffer = f.toBuffer();
-                writer.writeSnapshot(snap);
-            });
+            *scene, *estimator, rs, film, lt::tool::runProgress(progress, double(film.width()) * film.height(), "spp"),
+            &lt::tool::stopRequested(), reservoir ? &*reservoir : nullptr, lt::tool::snapshotWriter(writer));
         progress.finish();
 
         const double pixels = double(film.width()) * double(film.height());
         const double samplesPerPixel = double(stats.samples) / pixels;
         writer.writeBuffer(film.toBuffer());
         // How the run went: INFO is written before the work, so times and counts go in a STAT table.
-        writer.writeStats(lt::tool::valueTable("run", {{"samples", double(stats.samples)},
+        writer.writeStats(lt::file::valueTable("run", {{"samples", double(stats.samples)},
                                                        {"spp", samplesPerPixel},
                                                        {"passes", double(stats.passes)},
                                                        {"wall_seconds", stats.wallSeconds},
@@ -159,19 +141,10 @@ int main(int argc, char** argv) {
         writer.finish();
 
         if (pathWriter) {
-            const double b = reservoir->normalization(stats.samples, pixels);
-            const auto draws = reservoir->draws();
-            for (size_t i = 0; i < draws.size(); i += 4096)
-                pathWriter->writePaths(std::span(draws).subspan(i, std::min<size_t>(4096, draws.size() - i)));
-            pathWriter->writeStats(
-                lt::tool::valueTable("normalization", {{"b", b},
-                                                       {"samples", double(stats.samples)},
-                                                       {"candidates", double(reservoir->candidates())},
-                                                       {"kept", double(draws.size())}}));
-            pathWriter->finish();
+            const auto written = lt::writeSeedFile(*pathWriter, *reservoir, stats.samples, pixels);
             if (!quiet)
-                std::cerr << "lt-seed: b = " << b << " (" << reservoir->candidates() << " candidates, " << draws.size()
-                          << " kept) -> " << pathWriter->name() << '\n';
+                std::cerr << "lt-seed: b = " << written.b << " (" << reservoir->candidates() << " candidates, "
+                          << written.kept << " kept) -> " << pathWriter->name() << '\n';
         }
         if (!quiet) {
             std::cerr << "lt-seed: " << (stats.interrupted ? "interrupted after " : "") << samplesPerPixel << " spp in "

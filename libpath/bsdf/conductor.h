@@ -6,7 +6,7 @@
 
 #include "bsdf/bsdf.h"
 #include "bsdf/conductor_presets.h"
-#include "scene/texture.h"
+#include "texture/texture.h"
 
 namespace lt {
 

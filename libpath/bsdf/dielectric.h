@@ -6,7 +6,7 @@
 #include <memory>
 
 #include "bsdf/bsdf.h"
-#include "scene/texture.h"
+#include "texture/texture.h"
 
 namespace lt {
 

@@ -1,4 +1,4 @@
-// Fresnel reflectance of smooth interfaces: the one place for this math (STYLE.md).
+// Fresnel reflectance of smooth interfaces: the one place for this math.
 #pragma once
 
 #include "math/spectrum.h"

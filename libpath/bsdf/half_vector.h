@@ -1,7 +1,7 @@
-// The generalized half vector and its Jacobian: the one place for this math (STYLE.md). Microfacet
+// The generalized half vector and its Jacobian: the one place for this math. Microfacet
 // BSDFs, the manifold constraints and the half-vector (HSLT) mutations all call these.
 //
-// Convention (ALGORITHMS.md 1.1; HSLT App. A; ME Eq. 7; Walter et al. 2007 Eq. 16): i and o are unit
+// Convention (HSLT App. A; ME Eq. 7; Walter et al. 2007 Eq. 16): i and o are unit
 // vectors pointing AWAY from the vertex, eta = eta_o / eta_i (the index on o's side over the index on
 // i's side) for transmission and eta = 1 for reflection. h = (i + eta o) / |i + eta o|, oriented into
 // the hemisphere of the normal n.
@@ -16,7 +16,7 @@ namespace lt {
 
 // i + eta o without normalization or orientation. At an index-matched interface (eta = 1,
 // transmission) it vanishes at the solution, so the manifold constraint uses it unnormalized
-// (ALGORITHMS.md 1.5, pitfall P-8).
+// (normalizing a vector that vanishes would divide by zero).
 [[nodiscard]] inline Vec3 halfVectorUnnormalized(const Vec3& i, const Vec3& o, double eta) { return i + eta * o; }
 
 // The normalized generalized half vector oriented to the side of n (default: the local +z); nothing
@@ -32,7 +32,7 @@ namespace lt {
 
 // |d omega_h / d omega_o| = eta^2 |h.o| / (h.i + eta h.o)^2 (HSLT Eq. 10, Walter 2007 Eq. 16-17); for
 // reflection (eta = 1, h.i = h.o) this is 1 / (4 |h.o|). Returns 0, never NaN or Inf, when the
-// denominator vanishes (grazing or index-matched configurations, pitfall P-8).
+// denominator vanishes (grazing or index-matched configurations).
 [[nodiscard]] inline double halfVectorJacobian(const Vec3& h, const Vec3& i, const Vec3& o, double eta) {
     const double denom = sqr(dot(h, i) + eta * dot(h, o));
     if (!(denom > 0)) return 0;

@@ -23,7 +23,7 @@ enum class MicrofacetType { Beckmann, GGX };
 class MicrofacetDistribution {
 public:
     // alphaU along the local x (s) axis, alphaV along y (t). Clamped below at 1e-4 (the smallest
-    // roughness the project supports, DESIGN.md), where D at the peak is still finite (~3e7).
+    // roughness the project supports and tests), where D at the peak is still finite (~3e7).
     MicrofacetDistribution(MicrofacetType type, double alphaU, double alphaV);
 
     [[nodiscard]] MicrofacetType type() const { return type_; }

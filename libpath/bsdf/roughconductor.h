@@ -8,7 +8,7 @@
 #include "bsdf/bsdf.h"
 #include "bsdf/conductor_presets.h"
 #include "bsdf/microfacet.h"
-#include "scene/texture.h"
+#include "texture/texture.h"
 
 namespace lt {
 

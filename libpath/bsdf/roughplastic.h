@@ -21,7 +21,7 @@
 
 #include "bsdf/bsdf.h"
 #include "bsdf/microfacet.h"
-#include "scene/texture.h"
+#include "texture/texture.h"
 
 namespace lt {
 

@@ -3,10 +3,10 @@
 // against light leaks. Path construction (sampling/, manifold/, gradient/) calls this, never the local
 // Bsdf directly, so the rules live in one place.
 //
-// Convention: the path integral of ALGORITHMS.md 1.1 uses GEOMETRIC normals in G, so eval() returns the
-// effective BSDF that is to be multiplied by the geometric cosine |wo.ng| (or enter f(x) next to a G
-// built from geometric normals). Veach's shading-normal BSDF (thesis Sec. 5.3) rescales f_s by the
-// ratio of shading to geometric cosine of the direction the LIGHT arrives from:
+// Convention: the path integral (Veach 1997; Jakob & Marschner 2012, Eq. 4) uses GEOMETRIC normals in G,
+// so eval() returns the effective BSDF that is to be multiplied by the geometric cosine |wo.ng| (or
+// enter f(x) next to a G built from geometric normals). Veach's shading-normal BSDF (thesis Sec. 5.3)
+// rescales f_s by the ratio of shading to geometric cosine of the direction the LIGHT arrives from:
 //   Radiance   (light arrives along wo): f = f_s(wi, wo) |wo.ns| / |wo.ng|
 //   Importance (light arrives along wi): f = f_s(wi, wo) |wi.ns| / |wi.ng|     (adjoint, Eq. 5.21)
 // The two differ by the factor |wi.ns| |wo.ng| / (|wi.ng| |wo.ns|), which is exactly pbrt-v3's

@@ -7,7 +7,7 @@
 #include <memory>
 
 #include "bsdf/bsdf.h"
-#include "scene/texture.h"
+#include "texture/texture.h"
 
 namespace lt {
 
@@ -31,7 +31,8 @@ public:
     [[nodiscard]] Lobes lobes() const override { return LobeDelta | LobeReflection | LobeTransmission; }
     [[nodiscard]] double roughness(const Vec2&) const override { return 0; }
     // Both sides see the exterior medium, so the relative index of the straight-through transmission is
-    // 1: the manifold constraint is the index-matched one (unnormalized half vector, P-8).
+    // 1: the manifold constraint is the index-matched one (the half vector vanishes at the solution, so it
+    // is used unnormalized).
     [[nodiscard]] std::optional<InterfaceEta> eta() const override { return InterfaceEta{p_.extIOR, p_.extIOR}; }
     [[nodiscard]] std::string typeName() const override { return "thindielectric"; }
 

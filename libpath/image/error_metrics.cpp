@@ -17,7 +17,7 @@ namespace lt {
 
 namespace {
 
-// [GDPR] (Bauszat et al. 2017, Sec. 5, after Rousselle et al. 2012): relMSE's epsilon keeps black
+// [GDPR] (Bauszat et al. 2017, Sec. 4, after Rousselle et al. 2012): relMSE's epsilon keeps black
 // reference pixels from dividing by zero.
 constexpr double kRelMseEpsilon = 0.001;
 // MAPE's standard definition, mean |I - ref| / |ref|, is infinite on any black reference pixel (a
@@ -130,7 +130,7 @@ std::vector<double> ErrorReference::pixelErrors(const file::Buffer& image, const
         switch (metric) {
         case ErrorMetric::RelMSE:
         case ErrorMetric::RRMSE: {
-            // [GDPR] Sec. 5 (seed 004; ALGORITHMS.md 9.4): "the mean over all pixel errors given by
+            // [GDPR] (Bauszat et al. 2017) Sec. 4: "the mean over all pixel errors given by
             // sum_c (I_k^c - ref_k^c)^2 / (mean(ref_k^c)^2 + eps) where ... mean(ref_k^c) is the mean of
             // all color channels of the reference pixel, and eps = 0.001". The overline is over ref_k^c
             // and the square outside it: the denominator is the SQUARED CHANNEL MEAN of the reference

@@ -1,7 +1,7 @@
 // The error of an image against a reference, per pixel and over the image (optionally a crop, optionally
 // without its worst pixels), and the error of every estimate a buffer file holds (each SNAP snapshot,
 // then the final BUFR) for error-against-time curves. What lt-error computes; the papers' convergence
-// plots (relMSE against seconds, efficiency = 1 / (error x time), [GDPR] Sec. 5 and Fig. 5, 6) are made
+// plots (relMSE against seconds, efficiency = 1 / (error x time), [GDPR] Sec. 4 and Fig. 5, 6) are made
 // of these numbers.
 #pragma once
 
@@ -89,7 +89,7 @@ struct ErrorRow {
     ImageError error;
     double scale = 1;         // ErrorReference::scaleToReference
     ImageError rescaledError; // the metric of the image times `scale`
-    // 1 / (error x wall time) ([GDPR] Sec. 5, after Veach 1998); unknown without a time.
+    // 1 / (error x wall time) ([GDPR] Sec. 4, after Veach 1998); unknown without a time.
     [[nodiscard]] std::optional<double> efficiency() const;
 };
 

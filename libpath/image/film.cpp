@@ -57,7 +57,7 @@ void SampleFilm::merge(const TileResult& tile) {
     lightPaths_ += tile.lightPaths;
 }
 
-void SampleFilm::addSplat(const TileResult::Splat& s, int rowLo, int rowHi) {
+void SampleFilm::addSplat(const Splat& s, int rowLo, int rowHi) {
     forEachPixel(
         s.raster,
         [&](size_t dst, double w) {
@@ -67,12 +67,12 @@ void SampleFilm::addSplat(const TileResult::Splat& s, int rowLo, int rowHi) {
         rowLo, rowHi);
 }
 
-void SampleFilm::mergeSplats(const std::vector<const std::vector<TileResult::Splat>*>& lists, uint64_t lightPaths) {
+void SampleFilm::mergeSplats(const std::vector<const std::vector<Splat>*>& lists, uint64_t lightPaths) {
     // Bands of rows, each splat listed (in the order given) in every band it reaches; then the bands in
     // parallel. 16 rows: a band holds a splat's whole footprint for filters up to radius 7.5.
     constexpr int BandRows = 16;
     const int bands = (height() + BandRows - 1) / BandRows;
-    std::vector<std::vector<const TileResult::Splat*>> perBand(static_cast<size_t>(std::max(bands, 0)));
+    std::vector<std::vector<const Splat*>> perBand(static_cast<size_t>(std::max(bands, 0)));
     for (const auto* list : lists)
         for (const auto& s : *list) {
             const auto [ya, yb] = rowsAround(s.raster);

@@ -15,6 +15,7 @@
 #include "formats/records.h"
 #include "image/filter_density.h"
 #include "math/spectrum.h"
+#include "path/splat.h"
 #include "scene/camera.h"
 
 namespace lt {
@@ -31,10 +32,6 @@ struct TileResult {
     PixelRect rect;
     std::vector<double> sum;     // 3 per pixel of rect: sum of camera estimates
     std::vector<uint32_t> count; // camera samples per pixel of rect
-    struct Splat {
-        Vec2 raster;
-        Spectrum value;
-    };
     std::vector<Splat> splats; // anywhere on the film
     uint64_t lightPaths = 0;   // light subpaths traced (one per camera sample for BDPT)
 };
@@ -58,7 +55,7 @@ public:
     // bands of rows: each pixel still receives the splats in the order given, list by list, so the film
     // is the same, bit for bit, as merging the lists one after another, for any thread count. Runs in the
     // caller's TBB arena.
-    void mergeSplats(const std::vector<const std::vector<TileResult::Splat>*>& lists, uint64_t lightPaths);
+    void mergeSplats(const std::vector<const std::vector<Splat>*>& lists, uint64_t lightPaths);
     // Sum of the stored pixels' filters h_j at a raster position: 1 inside the image for box and tent,
     // within about 1 % for the truncated gaussian, less near the border. The Markov chains' b integrates
     // over raster positions, so seed paths of camera strategies (drawn from h_j around their pixel) are
@@ -85,7 +82,7 @@ private:
     // the rows [rowLo, rowHi) only.
     template <class F> void forEachPixel(const Vec2& raster, F&& f, int rowLo = INT_MIN, int rowHi = INT_MAX) const;
     // A splat spread over the pixels of rows [rowLo, rowHi) it reaches.
-    void addSplat(const TileResult::Splat& s, int rowLo, int rowHi);
+    void addSplat(const Splat& s, int rowLo, int rowHi);
 
     PixelRect window_;
     FilterDensity filter_;

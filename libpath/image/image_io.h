@@ -1,5 +1,5 @@
 // Sample buffers to and from image files through OpenImageIO: a linear float EXR with every plane as a
-// channel and the file's INFO as metadata (the exchange format for final images, DESIGN.md), an 8-bit
+// channel and the file's INFO as metadata (the exchange format for final images), an 8-bit
 // sRGB PNG preview, and reading any EXR back into a buffer (ours, or one another renderer wrote).
 // Writes go to a temporary name renamed when complete; every error is an lt::Error naming the file.
 #pragma once

@@ -48,7 +48,7 @@ std::optional<BlockTridiagonalLU> BlockTridiagonalLU::factor(const BlockTridiago
     lu.Linv_.resize(n);
     lu.U_.resize(n);
     for (size_t i = 0; i < n; ++i) {
-        // Block Thomas: L_1 = B_1, L_i = B_i - A_i U_{i-1}, U_i = L_i^{-1} C_i (ALGORITHMS.md 1.5).
+        // Block Thomas: L_1 = B_1, L_i = B_i - A_i U_{i-1}, U_i = L_i^{-1} C_i.
         const Mat2 L = i == 0 ? J.B[0] : J.B[i] - J.A[i] * lu.U_[i - 1];
         const auto Linv = L.inverse();
         if (!Linv) return std::nullopt;

@@ -1,5 +1,5 @@
-// The block-tridiagonal linear algebra of the manifold walks (ALGORITHMS.md 1.5; Manifold Exploration
-// section 4, HSLT section 7): the Jacobian of the specular constraints along a chain of n vertices is
+// The block-tridiagonal linear algebra of the manifold walks (Manifold Exploration section 4,
+// HSLT section 7): the Jacobian of the specular constraints along a chain of n vertices is
 // tridiag(A_i, B_i, C_i) with 2x2 blocks, solved in O(n) by block LU ("block Thomas") in double.
 // Singular or non-finite pivots make a solve fail (the caller rejects the proposal); nothing throws.
 #pragma once
@@ -39,7 +39,7 @@ public:
 
     // J x = b, with b and x as n 2-vectors.
     [[nodiscard]] std::vector<std::array<double, 2>> solve(const std::vector<std::array<double, 2>>& b) const;
-    // det J = product of det L_i (ALGORITHMS.md 1.5): |dX/dH| = 1 / |det J|.
+    // det J = product of det L_i: |dX/dH| = 1 / |det J|.
     [[nodiscard]] double determinant() const;
     // The block column k of J^{-1}: block i of J^{-1} e_k for every i (HSLT's D_i uses one of them).
     [[nodiscard]] std::vector<Mat2> inverseColumn(size_t k) const;

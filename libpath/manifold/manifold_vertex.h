@@ -1,5 +1,5 @@
 // A vertex of a specular chain in the local chart the manifold machinery works in, and THE frame
-// convention of libpath/manifold (written down here once; ALGORITHMS.md 1.5, ME section 3.3):
+// convention of libpath/manifold (written down here once; ME section 3.3):
 //
 // * Chart. The parameterization tangents dp/du, dp/dv orthonormalized by Gram-Schmidt (u along dp/du,
 //   v the rest of dp/dv), with dn/du, dn/dv (derivatives of the normalized shading normal n)
@@ -10,8 +10,8 @@
 //   the same u, v projected onto the shading normal at the moved point; its derivative is the
 //   frame-rotation (curvature) part of the B block. On the specular manifold (c = 0) that part does not
 //   depend on the choice of field; off it (offset vertices, HSLT's h-perp) it does, so every user of
-//   the constraint (Jacobian, tangent maps, Newton solve, proposals) must use this same field
-//   (ALGORITHMS.md 4.2).
+//   the constraint (Jacobian, tangent maps, Newton solve, proposals) must use this same field (mixing
+//   two frame fields biases the chain without any visible error).
 // * Constraint. c = T^T h = (s.h, t.h) with h the generalized half vector (bsdf/half_vector.h),
 //   oriented to the side of n; specular_constraint.h.
 #pragma once
@@ -48,7 +48,7 @@ struct ManifoldVertex {
     // A world direction in frame coordinates: T^T w.
     [[nodiscard]] Vec2 frameCoordinates(const Vec3& w) const { return {dot(s(), w), dot(t(), w)}; }
     // Index-matched transmission: the half vector vanishes at the solution and is used unnormalized
-    // (ALGORITHMS.md 1.5, pitfall P-8).
+    // (normalizing it would divide by zero).
     [[nodiscard]] bool indexMatched() const { return scatter == Scatter::Transmission && eta == 1; }
 };
 

@@ -55,7 +55,7 @@ Vec3 virtualPlaneNormal(const ManifoldVertex& from, const ManifoldVertex& to) {
 
 // The first surface along from -> dir, with the hit refined in double precision from the exact
 // origin (Embree intersects in float from an offset origin; the walk needs ~1e-7 relative accuracy,
-// ALGORITHMS.md 1.2): the ray against the hit triangle's plane, or the analytic shape again.
+// ME section 4): the ray against the hit triangle's plane, or the analytic shape again.
 std::optional<SurfaceInteraction> traceSurface(const Scene& scene, const ManifoldVertex& from, const Vec3& dir) {
     const auto hit = scene.intersectHit(spawnRay(from.endpoint(), dir));
     if (!hit) return std::nullopt;

@@ -1,4 +1,4 @@
-// The manifold walk (ME section 4, `WalkManifold`; ALGORITHMS.md 3.2): move one endpoint of a
+// The manifold walk (ME section 4, `WalkManifold`): move one endpoint of a
 // specular chain to a target and carry the interior vertices along the (offset) specular manifold by
 // Newton predictor-corrector steps. Failures are results, never exceptions: in MCMC a failed walk is
 // a rejected proposal.
@@ -19,7 +19,7 @@ enum class WalkFailure : uint8_t {
     TotalInternalReflection, // a refraction of the chain has no transmitted direction
     LeftSurface,             // a ray missed the chain's shape, hit it from the other side, or missed the plane
     Singular,                // A not invertible: the target lies on a caustic fold (ME section 4)
-    Collapsed,               // two consecutive vertices coincide (Mitsuba's extra check, ALGORITHMS.md 3.2)
+    Collapsed,               // two consecutive vertices coincide (Mitsuba's extra check)
     NonReversible,           // the reverse walk did not return to the start (ME section 5.1 step 4)
     Count
 };
@@ -28,7 +28,8 @@ inline constexpr size_t WalkFailureCount = size_t(WalkFailure::Count);
 
 struct WalkSettings {
     int maxIterations = 20;          // N (ME section 4)
-    double relativeTolerance = 1e-7; // epsilon, relative to the scene's bounding-box diagonal (pitfall P-6)
+    double relativeTolerance = 1e-7; // epsilon, relative to the scene's bounding-box diagonal (not to
+                                     // coordinates, which are tiny near the origin)
     bool checkVisibility = true;     // test x_{n-1} <-> x_n' on the real geometry after convergence
 };
 
@@ -64,7 +65,7 @@ struct PropagateResult {
 // the chain's scatterings about each vertex's held microfacet normal (its offset in the new local
 // frame), requiring the same shape and side at every vertex; the last segment ends on the plane
 // through plane.p with normal plane.n, ignoring the scene. A last segment shorter than `collapse` fails
-// (Mitsuba's extra check, ALGORITHMS.md 3.2: the last two vertices converged onto the same point).
+// (Mitsuba's extra check: the last two vertices converged onto the same point).
 [[nodiscard]] PropagateResult propagateChain(const Scene& scene, std::span<const ManifoldVertex> chain,
                                              const Vec3& toward, const ManifoldVertex& plane, double collapse);
 

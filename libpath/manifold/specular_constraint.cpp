@@ -40,7 +40,7 @@ std::optional<HalfVectorState> halfVectorState(const ManifoldVertex& prev, const
 }
 
 // dh for a change dH of the unnormalized half vector: d(H/|H|) = (dH - h (h.dH)) / |H| (the
-// derivative of a normalized vector, ALGORITHMS.md 1.5), times sigma.
+// derivative of a normalized vector, math/vec.h), times sigma.
 Vec3 dHalf(const HalfVectorState& st, const Vec3& dH) {
     return st.normalized ? normalizedDerivative(st.h, st.dhScale, dH) : dH;
 }

@@ -1,5 +1,5 @@
 // The specular constraint of one chain vertex and its row of the constraint Jacobian (ME Eq. 6-7,
-// section 3.3 and App. A2; ALGORITHMS.md 1.5). Frame convention: manifold_vertex.h.
+// section 3.3 and App. A2). Frame convention: manifold_vertex.h.
 //
 // c_i(x_{i-1}, x_i, x_{i+1}) = T(x_i)^T h,  h = sigma (w_i + eta w_o) / |w_i + eta w_o|,
 // with w_i, w_o the unit directions toward x_{i-1} and x_{i+1}, eta = eta_o / eta_i (1 for

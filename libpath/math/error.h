@@ -1,5 +1,5 @@
 // The one exception type of libpath. Its message names the file, line or field that is wrong, so a
-// tool can print it as its single error line (DESIGN.md: nothing in libpath prints or exits).
+// tool can print it as its single error line (nothing in libpath prints or exits).
 #pragma once
 
 #include <stdexcept>

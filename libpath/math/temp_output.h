@@ -1,7 +1,7 @@
 // An output file written under a temporary name beside its final one and renamed only when complete,
-// so no half-written output ever carries the final name (DESIGN.md: "Writers write to a temporary name
-// and rename at the end"). For writers that open the file themselves (OpenImageIO, streams): they write
-// to path(), then commit(). The temporary file is removed if commit() is never reached.
+// so no half-written output ever carries the final name. For writers that open the file themselves
+// (OpenImageIO, streams): they write to path(), then commit(). The temporary file is removed if
+// commit() is never reached.
 #pragma once
 
 #include <string>

@@ -1,5 +1,5 @@
 // Small value types for 2- and 3-vectors. Geometry computations in libpath run in double
-// (DESIGN.md: manifold walks need ~1e-7 relative precision); meshes store float for Embree.
+// (manifold walks need ~1e-7 relative precision); meshes store float for Embree.
 #pragma once
 
 #include <algorithm>
@@ -84,7 +84,7 @@ using Vec3 = Vec3d;
 inline Vec3 reflect(const Vec3& w, const Vec3& n) { return 2.0 * dot(w, n) * n - w; }
 
 // The derivative of a normalized vector z / |z| for a change dz, given the unit vector and 1 / |z|:
-// (dz - zhat (zhat . dz)) / |z| (ALGORITHMS.md 1.5). Normal fields, directions toward a moving vertex
+// (dz - zhat (zhat . dz)) / |z|. Normal fields, directions toward a moving vertex
 // and half vectors all differentiate through it.
 inline Vec3 normalizedDerivative(const Vec3& unit, double invLength, const Vec3& dz) {
     return (dz - unit * dot(unit, dz)) * invLength;

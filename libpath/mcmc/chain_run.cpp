@@ -3,39 +3,16 @@
 #include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/task_arena.h>
 
-#include <ctime>
-
 #include "scene/accel.h"
 
 namespace lt {
 
-namespace {
-
-double cpuSeconds() { return double(std::clock()) / CLOCKS_PER_SEC; }
-
-} // namespace
-
-ChainRunner::ChainRunner(const ChainRunSettings& run, SampleFilm& film, const ChainProgressCallback& progress,
-                         const std::atomic<bool>* stop, const ChainSnapshotCallback& snapshot)
-    : run_(run), film_(film), progress_(progress), stop_(stop), snapshot_(snapshot),
-      start_(run.start.value_or(std::chrono::steady_clock::now())), cpuStart_(cpuSeconds()),
-      raysBefore_(EmbreeAccel::rayCount()) {}
-
-double ChainRunner::elapsed() const {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count() - snapshotSeconds_;
-}
+ChainRunner::ChainRunner(const ChainRunSettings& run, SampleFilm& film, const RunProgressCallback& progress,
+                         const std::atomic<bool>* stop, const RunSnapshotCallback& snapshot)
+    : run_(run), film_(film), progress_(progress), stop_(stop), snapshot_(snapshot), clock_(run.start) {}
 
 void ChainRunner::report(const char* phase, double fraction, uint64_t mutations) const {
-    if (!progress_) return;
-    ChainRunProgress p;
-    p.phase = phase;
-    p.fraction = fraction;
-    p.mutations = mutations;
-    p.totalMutations = run_.mutations;
-    p.wallSeconds = elapsed();
-    p.cpuSeconds = cpuSeconds() - cpuStart_;
-    p.snapshotSeconds = snapshotSeconds_;
-    progress_(p);
+    if (progress_) progress_(clock_.progress(phase, fraction, mutations, run_.mutations));
 }
 
 void ChainRunner::assignQuotas(std::vector<std::unique_ptr<MarkovChain>>& chains) const {
@@ -76,7 +53,7 @@ void ChainRunner::run(std::vector<std::unique_ptr<MarkovChain>>& chains, ChainRu
         });
         // Merge in chain order (in parallel over the film's rows): the film does not depend on which thread
         // ran which chain.
-        std::vector<const std::vector<TileResult::Splat>*> splats;
+        std::vector<const std::vector<Splat>*> splats;
         uint64_t roundMutations = 0;
         for (size_t c = 0; c < chains.size(); ++c) {
             splats.push_back(&images[c].splats());
@@ -90,18 +67,10 @@ void ChainRunner::run(std::vector<std::unique_ptr<MarkovChain>>& chains, ChainRu
         double fraction = run_.mutations > 0 ? double(mutations_) / double(run_.mutations) : -1;
         if (run_.timeLimit > 0) fraction = std::max(fraction, std::min(1.0, wall / run_.timeLimit));
         if (snapshot_ && schedule.due(wall, double(mutations_) / pixels)) {
-            ChainRunProgress p;
-            p.phase = "chains";
-            p.mutations = mutations_;
-            p.totalMutations = run_.mutations;
-            p.wallSeconds = wall;
-            p.cpuSeconds = cpuSeconds() - cpuStart_;
-            p.snapshotSeconds = snapshotSeconds_;
+            RunProgress p = clock_.progress("chains", fraction, mutations_, run_.mutations);
             p.b = stats.normalization.b();
-            const auto s0 = std::chrono::steady_clock::now();
-            snapshot_(p, film_.toBuffer(p.b));
-            ++stats.snapshots;
-            snapshotSeconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - s0).count();
+            clock_.snapshot(
+                snapshot_, p, [&] { return film_.toBuffer(p.b); }, stats);
         }
         report("chains", fraction, mutations_);
     }
@@ -112,11 +81,6 @@ void ChainRunner::run(std::vector<std::unique_ptr<MarkovChain>>& chains, ChainRu
     finish(stats);
 }
 
-void ChainRunner::finish(ChainRunStats& stats) const {
-    stats.wallSeconds = elapsed();
-    stats.cpuSeconds = cpuSeconds() - cpuStart_;
-    stats.snapshotSeconds = snapshotSeconds_;
-    stats.rays = EmbreeAccel::rayCount() - raysBefore_;
-}
+void ChainRunner::finish(ChainRunStats& stats) const { clock_.close(stats); }
 
 } // namespace lt

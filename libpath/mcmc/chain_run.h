@@ -26,6 +26,7 @@
 #include "mcmc/normalization.h"
 #include "mcmc/mutation_statistics.h"
 #include "sampling/bdpt.h"
+#include "sampling/run_clock.h"
 
 namespace lt {
 
@@ -42,21 +43,10 @@ struct ChainRunSettings {
     std::optional<std::chrono::steady_clock::time_point> start;
 };
 
-struct ChainRunProgress {
-    const char* phase = ""; // "start-up" or "chains"
-    double fraction = -1;   // of the phase, when known
+// The run's record (times, rays, snapshots, health, interruption) and what chains add to it.
+struct ChainRunStats : RunRecord {
     uint64_t mutations = 0;
-    uint64_t totalMutations = 0; // 0 when only a time limit bounds the run
-    double wallSeconds = 0;      // since the start, snapshot writing excluded
-    double cpuSeconds = 0;
-    double snapshotSeconds = 0;
-    double b = 0; // the normalization's estimate at that moment
-};
-
-struct ChainRunStats {
-    uint64_t mutations = 0;
-    double wallSeconds = 0, cpuSeconds = 0, startupSeconds = 0;
-    uint64_t rays = 0;
+    double startupSeconds = 0;
     // The normalization b (integral of f* over the image) with which the film was read at the end, from
     // the start-up's samples and those added during the run (multiplexed: one stratum per path length,
     // index = edges).
@@ -66,15 +56,7 @@ struct ChainRunStats {
     std::vector<uint64_t> chainsPerLength, mutationsPerLength;
     uint64_t unusableSeeds = 0; // path space: seed draws that did not re-create in the scene
     MutationStatistics strategies;
-    SampleHealth health;
-    bool interrupted = false;
-    int snapshots = 0;
-    double snapshotSeconds = 0;
 };
-
-using ChainProgressCallback = std::function<void(const ChainRunProgress&)>;
-// A snapshot: the film read with the normalization as it stands (ChainRunProgress::b).
-using ChainSnapshotCallback = std::function<void(const ChainRunProgress&, const file::Buffer&)>;
 
 // One Markov chain, whatever its state space.
 class MarkovChain {
@@ -95,11 +77,13 @@ public:
 // The clock, progress and snapshots of a run, from its start (start-up included) to its end.
 class ChainRunner {
 public:
-    ChainRunner(const ChainRunSettings& run, SampleFilm& film, const ChainProgressCallback& progress,
-                const std::atomic<bool>* stop, const ChainSnapshotCallback& snapshot);
+    // Progress records count mutations as samples; a snapshot is the film read with the normalization as
+    // it stands (RunProgress::b).
+    ChainRunner(const ChainRunSettings& run, SampleFilm& film, const RunProgressCallback& progress,
+                const std::atomic<bool>* stop, const RunSnapshotCallback& snapshot);
 
     // Seconds since the start, snapshot writing excluded.
-    [[nodiscard]] double elapsed() const;
+    [[nodiscard]] double elapsed() const { return clock_.wallSeconds(); }
     [[nodiscard]] bool stopped() const { return stop_ && stop_->load(); }
     void report(const char* phase, double fraction, uint64_t mutations) const;
     // Give every chain its quota: the run's mutations split evenly (or unbounded with a time limit).
@@ -117,13 +101,10 @@ public:
 private:
     const ChainRunSettings& run_;
     SampleFilm& film_;
-    const ChainProgressCallback& progress_;
+    const RunProgressCallback& progress_;
     const std::atomic<bool>* stop_;
-    const ChainSnapshotCallback& snapshot_;
-    std::chrono::steady_clock::time_point start_;
-    double cpuStart_;
-    uint64_t raysBefore_;
-    double snapshotSeconds_ = 0;
+    const RunSnapshotCallback& snapshot_;
+    RunClock clock_;
     uint64_t mutations_ = 0;
 };
 

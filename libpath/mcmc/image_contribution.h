@@ -17,7 +17,8 @@ struct ImageContribution {
 };
 
 // The chain's scalar target f* = lum(f) (SURVEY Eq. 16), floored by a small fraction of the largest
-// channel so that a colour with zero luminance is still sampled (ALGORITHMS.md 1.4).
+// channel so that a colour with zero luminance is still sampled (a target that is 0 where f is not would
+// bias the image).
 [[nodiscard]] inline double targetValue(const Spectrum& f) { return std::max(f.luminance(), 1e-3 * f.maxValue()); }
 
 [[nodiscard]] inline double targetValue(const std::vector<ImageContribution>& contributions) {

@@ -1,7 +1,7 @@
-// The state of a path-space Markov chain (Veach-Guibas MLT, ALGORITHMS.md 2): a whole light path, light
+// The state of a path-space Markov chain (Veach and Guibas 1997): a whole light path, light
 // to eye, with everything the mutations need to evaluate it and the densities of re-sampling its
-// vertices. evaluatePath() recomputes the contribution from the vertices alone ("verify this path from
-// scratch", STYLE.md after Mitsuba's verification.cpp); nothing cached survives a proposal unchecked.
+// vertices. evaluatePath() recomputes the contribution from the vertices alone (as Mitsuba's
+// verification.cpp re-checks a path); nothing cached survives a proposal unchecked.
 //
 // Specular vertices. A vertex that scattered through a delta lobe makes f a distribution: f_s = R
 // delta_perp, with delta_perp the Dirac delta in projected solid angle at the vertex (geometric normal)
@@ -62,7 +62,7 @@ struct MarkovPath {
 // barycentrics, then evaluated. Throws lt::Error naming the record when it does not fit the scene.
 [[nodiscard]] MarkovPath pathFromRecord(const Scene& scene, const file::PathRecord& record, size_t index);
 
-// Densities of re-sampling vertex i (delta-stripped, area measure; ALGORITHMS.md 1.2's pdf_fwd / pdf_rev):
+// Densities of re-sampling vertex i (delta-stripped, area measure; BDPT's pdf_fwd / pdf_rev):
 // from the light side (i = 0: choosing the light point; i = 1: emission from v[0]; otherwise scattering at
 // v[i-1] given v[i-2]) and from the eye side (scattering at v[i+1] given v[i+2]; i = k - 1: the camera
 // ray, uniform over the sensor window). Zero where the vertex cannot be sampled that way.

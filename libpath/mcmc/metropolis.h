@@ -1,4 +1,4 @@
-// The Metropolis-Hastings step shared by every chain (ALGORITHMS.md 1.4), with expected-value
+// The Metropolis-Hastings step shared by every chain (MCMC survey, Sec. 2.2), with expected-value
 // ("Rao-Blackwellized") accumulation (SURVEY 2.6): each iteration credits the proposal with its
 // acceptance probability a and the current state with 1 - a, whatever the random draw decides. The
 // current state's credit is accumulated and splatted when the chain leaves it, or when the caller
@@ -27,15 +27,15 @@ public:
         for (const auto& k : c)
             splats_.push_back({k.raster, k.value * w});
     }
-    std::vector<TileResult::Splat>& splats() { return splats_; }
+    std::vector<Splat>& splats() { return splats_; }
 
 private:
     double scale_;
-    std::vector<TileResult::Splat> splats_;
+    std::vector<Splat> splats_;
 };
 
 // The acceptance probability min(1, f*(y) T(y -> x) / (f*(x) T(x -> y))), written with the mutations'
-// Q = T / f* (ALGORITHMS.md 1.4): a = min(1, Q(y -> x) / Q(x -> y)). Zero when anything is not finite
+// Q = T / f* (as in Mitsuba's libbidir): a = min(1, Q(y -> x) / Q(x -> y)). Zero when anything is not finite
 // or the forward density vanishes: such a proposal is rejected, never accepted by accident.
 [[nodiscard]] inline double acceptance(double forwardQ, double reverseQ) {
     if (!(forwardQ > 0) || !std::isfinite(forwardQ) || !(reverseQ >= 0) || !std::isfinite(reverseQ)) return 0;

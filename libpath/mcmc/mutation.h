@@ -1,7 +1,7 @@
-// The contract every path-space mutation fulfils (STYLE.md, after Mitsuba's libbidir: each mutator
+// The contract every path-space mutation fulfils (after Mitsuba's libbidir: each mutator
 // answers the same two questions, so the Metropolis-Hastings driver is one loop for all):
 // * is it suitable for a path (its selection probability is then w_m s_m(x) / sum_j w_j s_j(x), taken
-//   at both states: ALGORITHMS.md 1.4, pitfall P-3), and
+//   at both states, since suitability can differ between x and y), and
 // * propose a path y from x, with Q(x -> y) = T(x -> y) / f*(y) and Q(y -> x) = T(y -> x) / f*(x),
 //   both computed from the two paths as they are (markov_path.h), never from values cached on the way.
 #pragma once

@@ -1,4 +1,4 @@
-// Per-strategy counters of a Markov-chain run (STYLE.md, after Tungsten: cheap and loved): what was
+// Per-strategy counters of a Markov-chain run (after Tungsten's acceptance statistics): what was
 // proposed, what was accepted, and why the rest was rejected. lt-mutate prints them as a table and
 // stores them in the output's STAT chunk.
 #pragma once

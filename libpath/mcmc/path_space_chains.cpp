@@ -6,6 +6,7 @@
 
 #include "math/error.h"
 #include "sampling/render.h"
+#include "sampling/seed_file.h"
 #include "scene/accel.h"
 
 #include <oneapi/tbb/parallel_for.h>
@@ -53,7 +54,7 @@ public:
                 ++k.rejected[size_t(*proposal_.failed)];
                 position_.step(none, 0, 0, false, image);
             } else {
-                // Q times the selection probability at each state (ALGORITHMS.md 1.4, pitfall P-3).
+                // Q times the selection probability at each state (suitability can differ between x and y).
                 const double w = mutations_[m].weight;
                 const double totalY = selectionMass(proposal_.y);
                 const double forward = proposal_.forwardQ * w / totalX;
@@ -118,22 +119,11 @@ private:
 
 } // namespace
 
-PathSpaceSeeds seedsFromFile(file::Content&& content, const std::string& name) {
-    double b = -1, samples = -1;
-    for (const auto& t : content.stats)
-        if (t.name == "normalization")
-            for (size_t r = 0; r < t.rows.size(); ++r) {
-                if (t.values[r].empty()) continue;
-                if (t.rows[r] == "b") b = t.values[r][0];
-                if (t.rows[r] == "samples") samples = t.values[r][0];
-            }
-    if (!(b >= 0) || !std::isfinite(b))
-        throw Error(name + ": no normalization b (STAT \"normalization\"); was it written by lt-seed --paths?");
-    if (!(samples >= 1) || !std::isfinite(samples))
-        throw Error(name + ": no sample count of the seed run (STAT \"normalization\" row \"samples\")");
+PathSpaceSeeds seedsFromFile(file::Content&& content) {
+    SeedFile file = readSeedFile(std::move(content));
     PathSpaceSeeds seeds;
-    seeds.paths = std::move(content.paths);
-    seeds.b.addMean(0, b, uint64_t(samples));
+    seeds.paths = std::move(file.paths);
+    seeds.b.addMean(0, file.b, file.samples);
     return seeds;
 }
 
@@ -197,8 +187,8 @@ PathSpaceSeeds seedWithBdpt(const Scene& scene, const BdptSettings& bdpt, uint64
 ChainRunStats runPathSpaceChains(const Scene& scene, const PathSpaceSeeds& seeds,
                                  const std::vector<WeightedMutation>& mutations, const ChainRunSettings& run,
                                  const BdptSettings& bdpt, double refineB, SampleFilm& film,
-                                 const ChainProgressCallback& progress, const std::atomic<bool>* stop,
-                                 const ChainSnapshotCallback& snapshot, const PathDump& dump) {
+                                 const RunProgressCallback& progress, const std::atomic<bool>* stop,
+                                 const RunSnapshotCallback& snapshot, const PathDump& dump) {
     if (run.chains < 1) throw Error("the number of chains must be at least 1");
     if (run.mutations == 0 && !(run.timeLimit > 0)) throw Error("give a number of mutations or a time limit");
     if (mutations.empty()) throw Error("no mutation to run");

@@ -1,4 +1,4 @@
-// Path-space Metropolis light transport (Veach and Guibas 1997; ALGORITHMS.md 1.4, 2): chains whose
+// Path-space Metropolis light transport (Veach and Guibas 1997): chains whose
 // states are whole paths, started from seed paths and mutated by a weighted mix of mutations.
 //
 // Start-up (Veach and Guibas 1997's start-up bias removal; MCMC survey, Sec. 2.5): the seed paths are independent
@@ -45,9 +45,9 @@ struct PathSpaceSeeds {
 [[nodiscard]] double bdptSampleOfB(const Bdpt& bdpt, const SampleFilm& film, uint64_t seed, uint64_t index,
                                    const StrategyCallback* onPath = nullptr);
 
-// The seed paths of a paths file (lt-seed --paths) with the seed run's b and sample count (STAT
-// "normalization": b, samples); throws lt::Error naming `name` when they are missing.
-[[nodiscard]] PathSpaceSeeds seedsFromFile(file::Content&& content, const std::string& name);
+// The chains' start: the paths of a seed file (sampling/seed_file.h) and the seed run's b as the first
+// samples of the estimate; throws lt::Error naming the file when b or its sample count is missing.
+[[nodiscard]] PathSpaceSeeds seedsFromFile(file::Content&& content);
 
 // Seed paths from a BDPT run of its own (what lt-seed --paths writes): at least `samples` camera
 // samples (whole passes), `keep` draws.
@@ -67,7 +67,7 @@ struct PathDump {
 ChainRunStats runPathSpaceChains(const Scene& scene, const PathSpaceSeeds& seeds,
                                  const std::vector<WeightedMutation>& mutations, const ChainRunSettings& run,
                                  const BdptSettings& bdpt, double refineB, SampleFilm& film,
-                                 const ChainProgressCallback& progress, const std::atomic<bool>* stop,
-                                 const ChainSnapshotCallback& snapshot = {}, const PathDump& dump = {});
+                                 const RunProgressCallback& progress, const std::atomic<bool>* stop,
+                                 const RunSnapshotCallback& snapshot = {}, const PathDump& dump = {});
 
 } // namespace lt

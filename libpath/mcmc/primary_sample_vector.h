@@ -1,4 +1,4 @@
-// The state of a primary-sample-space chain (Kelemen et al. 2002; ALGORITHMS.md 8): an unbounded vector
+// The state of a primary-sample-space chain (Kelemen et al. 2002): an unbounded vector
 // u of numbers in [0, 1) that a path sampler (our BDPT) consumes through the SampleGenerator interface,
 // so the same sampler code runs under independent sampling and under the Markov chain.
 //

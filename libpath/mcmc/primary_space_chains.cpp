@@ -115,8 +115,8 @@ private:
 } // namespace
 
 ChainRunStats runPrimarySpaceChains(const Scene& scene, const PrimarySpaceSettings& space, const ChainRunSettings& run,
-                                    SampleFilm& film, const ChainProgressCallback& progress,
-                                    const std::atomic<bool>* stop, const ChainSnapshotCallback& snapshot) {
+                                    SampleFilm& film, const RunProgressCallback& progress,
+                                    const std::atomic<bool>* stop, const RunSnapshotCallback& snapshot) {
     if (run.chains < 1) throw Error("the number of chains must be at least 1");
     if (run.mutations == 0 && !(run.timeLimit > 0)) throw Error("give a number of mutations or a time limit");
     if (!(space.largeStepProbability >= 0 && space.largeStepProbability <= 1))

@@ -1,4 +1,4 @@
-// Kelemen PSSMLT and multiplexed MLT over lt's BDPT (ALGORITHMS.md 8).
+// Kelemen PSSMLT and multiplexed MLT over lt's BDPT (Kelemen et al. 2002; Hachisuka et al. 2014).
 //
 // Start-up (Veach-Guibas start-up bias removal, in primary sample space as Kelemen and pbrt-v3 do):
 // `startupSamples` independent primary samples (multiplexed MLT: that many per path length on average, as
@@ -39,7 +39,7 @@ struct PrimarySpaceSettings {
     PrimarySpace space = PrimarySpace::Kelemen;
     BdptSettings bdpt;
     int unboundedEdges = 12;           // multiplexed: path-length bound when bdpt.maxDepth is -1
-    double largeStepProbability = 0.3; // Mitsuba's default (ALGORITHMS.md 8)
+    double largeStepProbability = 0.3; // Mitsuba's default
     SmallStepKernel smallStep;
     uint64_t startupSamples = 100000; // Mitsuba's luminanceSamples; multiplexed: per path length on average
                                       // (lt-mutate's default there is 20000)
@@ -48,7 +48,7 @@ struct PrimarySpaceSettings {
 // Renders into `film` (its splats; the film's light-path count becomes the number of mutations).
 // Throws lt::Error when the start-up finds no light at all.
 ChainRunStats runPrimarySpaceChains(const Scene& scene, const PrimarySpaceSettings& space, const ChainRunSettings& run,
-                                    SampleFilm& film, const ChainProgressCallback& progress,
-                                    const std::atomic<bool>* stop, const ChainSnapshotCallback& snapshot = {});
+                                    SampleFilm& film, const RunProgressCallback& progress,
+                                    const std::atomic<bool>* stop, const RunSnapshotCallback& snapshot = {});
 
 } // namespace lt

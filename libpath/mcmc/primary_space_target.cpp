@@ -28,7 +28,7 @@ double PrimarySpaceTarget::evaluateAll(SampleGenerator& u, std::vector<ImageCont
     const Vec2 r = sensor_.raster(u.next2D());
     thread_local std::vector<Splat> splats;
     splats.clear();
-    const Spectrum L = bdpt_.sample(r, u, splats, health);
+    const Spectrum L = bdpt_.sample(r, u, splats, health, nullptr);
     if (!L.isBlack()) out.push_back({r, L * sensor_.area()});
     for (const auto& s : splats)
         out.push_back({s.raster, s.value * cropPixels_});

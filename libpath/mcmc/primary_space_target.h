@@ -1,11 +1,11 @@
-// The integrands of the primary-sample-space chains (ALGORITHMS.md 8): BDPT driven by a vector of
+// The integrands of the primary-sample-space chains (MCMC survey, Sec. 4.1-4.2): BDPT driven by a vector of
 // numbers u in [0, 1)^d instead of independent ones.
 // * Kelemen PSSMLT: the whole BDPT sample (every (s, t) strategy, MIS-weighted) is one state; its target
 //   is the luminance of everything it contributes (SURVEY Eq. 19).
 // * Multiplexed MLT (Hachisuka et al. 2014): for paths of a given number of edges, the first number
 //   picks ONE strategy (s, t) uniformly; the target is (number of strategies) x w_st f / p_st (SURVEY
 //   Eq. 20), so the MIS weight inside the target steers the chain to the strategy that suits the path.
-//   Chains are grouped by path length as in pbrt-v3 (ALGORITHMS.md 8: "one chain family per length").
+//   Chains are grouped by path length as in pbrt-v3.
 //
 // The raster position comes from u uniformly over the sensor window (the crop window grown by the pixel
 // filter's radius), so the image integral I_j = integral of h_j(r) L(r) dr gets the estimate

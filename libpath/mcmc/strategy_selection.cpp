@@ -5,40 +5,45 @@
 #include <sstream>
 
 #include "math/error.h"
-#include "mcmc/mutations/bidirectional_mutation.h"
-#include "mcmc/mutations/caustic_perturbation.h"
-#include "mcmc/mutations/lens_perturbation.h"
-#include "mcmc/mutations/lens_subpath_mutation.h"
-#include "mcmc/mutations/multi_chain_perturbation.h"
+#include "mcmc/mutation_registry.h"
 
 namespace lt {
 
 namespace {
 
-// The path-space mutations lt has (default weight 1 each).
-const char* const Available[] = {"bidirectional", "lens", "caustic", "multi-chain", "lens-subpath"};
-const char* const AvailableList = "bidirectional, lens, caustic, multi-chain, lens-subpath";
-
-// Mutations of the papers that lt does not have yet: named so that asking for one is a clear error.
-const char* const Planned[] = {"manifold", "half-vector", "portal"};
+// The names of the mutations lt has, for messages: "bidirectional, lens, ...".
+std::string availableList() {
+    std::string list;
+    for (const auto& k : mutationKinds())
+        if (k.make) list += (list.empty() ? "" : ", ") + std::string(k.name);
+    return list;
+}
 
 } // namespace
 
 StrategyChoice chooseStrategies(const std::string& spec, const SceneFeatures& features) {
     StrategyChoice choice;
     if (spec == "auto") {
-        // Veach's mix (ALGORITHMS.md 2): the bidirectional mutation and the lens perturbation always; the
-        // caustic and multi-chain perturbations only move paths through specular chains (2.3, 2.4).
-        choice.chosen = {{"bidirectional", 1}, {"lens", 1}};
-        if (features.specularChains) {
-            choice.chosen.push_back({"caustic", 1});
-            choice.chosen.push_back({"multi-chain", 1});
-        } else {
-            choice.leftOut.push_back("caustic, multi-chain perturbations: " + features.specularReason);
+        // Each mutation lt has, unless its rule leaves it out on this scene; mutations left out for the
+        // same reason are named together ("caustic, multi-chain perturbations: ...").
+        std::vector<std::pair<std::string, std::vector<const MutationKind*>>> groups; // reason, kinds
+        for (const auto& k : mutationKinds()) {
+            if (!k.make) continue;
+            const std::string why = k.autoLeavesOut(features);
+            if (why.empty()) {
+                choice.chosen.push_back({k.name, 1});
+                continue;
+            }
+            auto g = std::find_if(groups.begin(), groups.end(), [&](const auto& x) { return x.first == why; });
+            if (g == groups.end()) g = groups.insert(groups.end(), {why, {}});
+            g->second.push_back(&k);
         }
-        choice.leftOut.push_back(
-            "lens-subpath mutation: optional (ALGORITHMS.md 2.5; Mitsuba dropped it for want of a gain); "
-            "ask for it with --strategies");
+        for (const auto& [why, kinds] : groups) {
+            std::string names;
+            for (const auto* k : kinds)
+                names += (names.empty() ? "" : ", ") + std::string(k->name);
+            choice.leftOut.push_back(names + " " + kinds.front()->noun + (kinds.size() > 1 ? "s" : "") + ": " + why);
+        }
         return choice;
     }
     std::istringstream in(spec);
@@ -53,11 +58,10 @@ StrategyChoice chooseStrategies(const std::string& spec, const SceneFeatures& fe
             if (w.empty() || *end != '\0' || !(e.weight > 0) || !std::isfinite(e.weight))
                 throw Error("--strategies: weight of '" + e.name + "' must be a positive number, got '" + w + "'");
         }
-        for (const char* p : Planned)
-            if (e.name == p)
-                throw Error("--strategies: '" + e.name + "' is not built yet (available: " + AvailableList + ")");
-        if (std::find(std::begin(Available), std::end(Available), e.name) == std::end(Available))
-            throw Error("--strategies: unknown strategy '" + e.name + "' (available: " + AvailableList + ")");
+        const MutationKind* kind = findMutationKind(e.name);
+        if (!kind) throw Error("--strategies: unknown strategy '" + e.name + "' (available: " + availableList() + ")");
+        if (!kind->make)
+            throw Error("--strategies: '" + e.name + "' is not built yet (available: " + availableList() + ")");
         for (const auto& c : choice.chosen)
             if (c.name == e.name) throw Error("--strategies: '" + e.name + "' given twice");
         choice.chosen.push_back(e);
@@ -73,13 +77,17 @@ StrategyChoice chooseStrategies(const std::string& spec, const SceneFeatures& fe
 void makeMutations(const StrategyChoice& choice, const Scene& scene, int maxEdges,
                    std::vector<std::unique_ptr<Mutation>>& owned, std::vector<WeightedMutation>& mix) {
     for (const auto& e : choice.chosen) {
-        if (e.name == "bidirectional") owned.push_back(std::make_unique<BidirectionalMutation>(scene, maxEdges));
-        if (e.name == "lens") owned.push_back(std::make_unique<LensPerturbation>(scene));
-        if (e.name == "caustic") owned.push_back(std::make_unique<CausticPerturbation>(scene));
-        if (e.name == "multi-chain") owned.push_back(std::make_unique<MultiChainPerturbation>(scene));
-        if (e.name == "lens-subpath") owned.push_back(std::make_unique<LensSubpathMutation>(scene, maxEdges));
+        owned.push_back(findMutationKind(e.name)->make(scene, maxEdges));
         mix.push_back({owned.back().get(), e.weight});
     }
+}
+
+std::string strategiesHelp() {
+    std::string help = "path-space mutations: auto (every mutation the scene can use; says what it leaves out and "
+                       "why) or NAME[:WEIGHT],... (weights default to 1) of:";
+    for (const auto& k : mutationKinds())
+        if (k.make) help += std::string("\n  ") + k.name + ": " + k.summary;
+    return help + "\nPrimary spaces have their own two: large step and small step.";
 }
 
 } // namespace lt

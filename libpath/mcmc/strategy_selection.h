@@ -1,6 +1,7 @@
-// Which path-space mutations a run uses: `--strategies auto` reads the scene (scene/scene_features.h)
-// and leaves out what cannot help, saying why (the third promise); an explicit list NAME[:WEIGHT],...
-// is taken as given. Every mix includes the bidirectional mutation (ergodicity, ALGORITHMS.md 1.4).
+// Which path-space mutations a run uses: `--strategies auto` applies each mutation's rule
+// (mcmc/mutation_registry.h) to the scene (scene/scene_features.h) and leaves out what cannot help, saying why (the
+// third promise); an explicit list NAME[:WEIGHT],... is taken as given. Every mix includes the bidirectional mutation
+// (ergodicity: it is the one mutation that can replace any part of a path; MCMC survey, Sec. 3.3).
 #pragma once
 
 #include <memory>
@@ -29,5 +30,9 @@ struct StrategyChoice {
 // The mutations of a choice, for a scene and a path-length bound; `mix` points into `owned`.
 void makeMutations(const StrategyChoice& choice, const Scene& scene, int maxEdges,
                    std::vector<std::unique_ptr<Mutation>>& owned, std::vector<WeightedMutation>& mix);
+
+// lt-mutate's --help for --strategies: every mutation of the registry (mcmc/mutation_registry.h) with
+// what it moves.
+[[nodiscard]] std::string strategiesHelp();
 
 } // namespace lt

@@ -3,7 +3,8 @@
 #pragma once
 
 #include "formats/records.h"
-#include "sampling/bdpt.h"
+#include "path/strategy_path.h"
+#include "scene/scene.h"
 
 namespace lt {
 

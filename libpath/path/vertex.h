@@ -58,7 +58,7 @@ struct PathVertex {
     [[nodiscard]] double convertDensity(double pdfSolidAngle, const PathVertex& next) const;
 };
 
-// The geometry term between two vertices with geometric normals (ALGORITHMS.md 1.1), visibility
+// The geometry term between two vertices with geometric normals (Jakob & Marschner 2012, Eq. 5), visibility
 // excluded: |n_a . w| |n_b . w| / d^2, where a point without a surface contributes no cosine, and a
 // vertex at infinity contributes neither cosine nor distance.
 [[nodiscard]] double geometryTerm(const PathVertex& a, const PathVertex& b);

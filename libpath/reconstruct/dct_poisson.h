@@ -1,5 +1,5 @@
 // The screened Poisson equation with constant coefficients on the pixel grid, solved exactly by the
-// discrete cosine transform (ALGORITHMS.md 7; the normal equations of [GDPR] Sec. 2.2 with all weights 1):
+// discrete cosine transform (the normal equations of Bauszat et al. 2017, Sec. 2.2, with all weights 1):
 //   (s 1 + a_x Dx^T Dx + a_y Dy^T Dy) v = b,
 // Dx, Dy the forward differences of gradient_image.h, without the difference that would leave the image.
 // Dx^T Dx is, in every row, the Laplacian of a path graph of W vertices (Neumann boundary), whose

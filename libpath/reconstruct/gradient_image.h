@@ -1,5 +1,5 @@
 // The input of a gradient-domain reconstruction: a noisy RGB primal image, its forward-difference
-// gradients and, optionally, the directly visible emitters stored apart (ALGORITHMS.md 7 "Inputs").
+// gradients and, optionally, the directly visible emitters stored apart (added back after the solve).
 // Conventions, shared with the public gradient-domain code so buffers of other renderers can be read:
 //   dx(x,y) = I(x+1,y) - I(x,y),  dy(x,y) = I(x,y+1) - I(x,y),  rows top to bottom;
 //   the last column of dx and the last row of dy would leave the image and are never read.

@@ -1,4 +1,4 @@
-// The normal equations of the weighted screened Poisson problem on the pixel grid (ALGORITHMS.md 7),
+// The normal equations of the weighted screened Poisson problem on the pixel grid,
 //   (alpha^2 W_p + Dx^T W_x Dx + Dy^T W_y Dy) I = alpha^2 W_p P + Dx^T W_x Gx + Dy^T W_y Gy,
 // assembled straight from the 5-point stencil as an Eigen sparse matrix and solved by Eigen's conjugate
 // gradients: the backend of reconstructScreenedPoisson for images too large for Ceres (screened_poisson.cpp);

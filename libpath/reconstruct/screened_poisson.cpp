@@ -27,8 +27,8 @@ struct SolveData {
     const float* primal = nullptr;
     const float* dx = nullptr;
     const float* dy = nullptr;
-    // Square roots of the IRLS weights of the primal, dx and dy residuals of each pixel (ALGORITHMS.md 7:
-    // a weighted least-squares residual is sqrt(w) r); null for L2, where all weights are 1.
+    // Square roots of the IRLS weights of the primal, dx and dy residuals of each pixel (a
+    // weighted least-squares residual is sqrt(w) r); null for L2, where all weights are 1.
     const float* sqrtWeightPrimal = nullptr;
     const float* sqrtWeightDx = nullptr;
     const float* sqrtWeightDy = nullptr;
@@ -160,7 +160,7 @@ PixelResiduals pixelResiduals(const GradientImage& im, const Solution& x, double
     return e;
 }
 
-// The objective of ALGORITHMS.md 7 for the chosen norm at `x` (per-pixel RGB norms for L1).
+// The objective of screened_poisson.h for the chosen norm at `x` (per-pixel RGB norms for L1).
 double objective(const GradientImage& im, const Solution& x, double alpha, ReconstructNorm norm) {
     double total = 0;
     for (uint32_t y = 0; y < im.height; ++y)
@@ -172,7 +172,7 @@ double objective(const GradientImage& im, const Solution& x, double alpha, Recon
     return total;
 }
 
-// IRLS weights for the L1 objective at `x` (ALGORITHMS.md 7): w = 1 / (|e|_2 + reg) per pixel and
+// IRLS weights for the L1 objective at `x`: w = 1 / (|e|_2 + reg) per pixel and
 // residual, from the RGB vector norm |e|_2, so the three channels share one weight and stay one
 // problem each. Minimizing sum w |e|^2 with these weights is the majorizer of sum |e| at x.
 void irlsWeights(const GradientImage& im, const Solution& x, double alpha, double reg, ResidualWeights& weights) {
@@ -326,7 +326,7 @@ file::Buffer reconstructScreenedPoisson(const GradientImage& image, const Recons
         options.logging_type = ceres::SILENT;
         // The problem is linear least squares: with an (effectively) unbounded trust region the first
         // Levenberg-Marquardt step is the Gauss-Newton step, i.e. the solution of the normal equations
-        // (the screened Poisson equation, ALGORITHMS.md 7), so one iteration suffices.
+        // (the screened Poisson equation), so one iteration suffices.
         options.initial_trust_region_radius = 1e16;
         options.max_trust_region_radius = 1e16;
         options.max_num_iterations = 1;
@@ -339,7 +339,7 @@ file::Buffer reconstructScreenedPoisson(const GradientImage& image, const Recons
         ceresProblem.emplace(image, settings.alpha);
     }
 
-    // Warm start at the primal (ALGORITHMS.md 7).
+    // Warm start at the primal.
     Solution x;
     for (size_t c = 0; c < 3; ++c)
         x[c].assign(image.primal[c].begin(), image.primal[c].end());
@@ -428,7 +428,7 @@ file::Buffer reconstructScreenedPoisson(const GradientImage& image, const Recons
         for (size_t p = 0; p < N; ++p) {
             const double v = x[c][p] + (image.direct ? (*image.direct)[c][p] : 0.0f);
             // Finite inputs and a positive alpha make the system positive definite, so this would be a
-            // solver bug; it must not reach a file as NaN or Inf (DESIGN.md).
+            // solver bug; it must not reach a file as NaN or Inf.
             if (!std::isfinite(float(v))) throw Error("reconstruction: the solver produced a non-finite value");
             out[c][p] = float(v);
         }

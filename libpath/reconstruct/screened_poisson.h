@@ -1,6 +1,6 @@
 // Screened Poisson reconstruction of a gradient-domain render, L2 and L1, solved with Ceres, Eigen CG or
-// the cosine transform (ALGORITHMS.md 7; [GDPR] Sec. 2.2, 4; the solver schedule follows Kettunen's GPT
-// code).
+// the cosine transform (Bauszat et al. 2017, Sec. 2.2 and 4; the solver schedule follows the code of
+// Kettunen et al. 2015).
 //   L2: min_I  alpha^2 |I - P|^2 + |Dx I - Gx|^2 + |Dy I - Gy|^2          (unbiased: linear in P, G)
 //   L1: min_I  sum_p |alpha (I - P)_p| + |(Dx I - Gx)_p| + |(Dy I - Gy)_p|  (per-pixel RGB vector norms)
 // alpha multiplies the primal residual, so it enters the L2 objective squared.

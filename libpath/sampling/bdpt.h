@@ -3,11 +3,14 @@
 // the camera subpath (s = 0) included, weighted by multiple importance sampling.
 #pragma once
 
-#include <functional>
 #include <vector>
 
+#include "path/sample_health.h"
+#include "path/splat.h"
+#include "path/strategy_path.h"
 #include "path/vertex.h"
 #include "sampling/mis.h"
+#include "sampling/pixel_estimator.h"
 #include "sampling/sample_generator.h"
 
 namespace lt {
@@ -30,31 +33,7 @@ struct BdptSettings {
     return q < 0.95 ? q : 0.95;   // NaN compares false: a NaN throughput survives and is counted later
 }
 
-// A contribution that lands away from the sample's own pixel: light tracing (t = 1) connects to the
-// camera at any raster position.
-struct Splat {
-    Vec2 raster;
-    Spectrum value;
-};
-
-// One joined path as the strategy (s, t) produced it, for seed-path output and inspection.
-struct StrategyPath {
-    int s = 0, t = 0;
-    const std::vector<PathVertex>* light = nullptr;   // light subpath, the first s vertices used
-    const std::vector<PathVertex>* camera = nullptr;  // camera subpath, the first t vertices used
-    const PathVertex* sampled = nullptr;              // the vertex that replaced light[0] (s = 1) or camera[0] (t = 1)
-    Vec2 raster;
-    Spectrum unweighted;                              // f / p of the strategy
-    double misWeight = 0;
-};
-using StrategyCallback = std::function<void(const StrategyPath&)>;
-
-// Counts of samples that produced NaN or Inf and were dropped (never written to an output).
-struct SampleHealth {
-    uint64_t nonFinite = 0;
-};
-
-class Bdpt {
+class Bdpt final : public PixelEstimator {
 public:
     // Throws lt::Error if maxDepth is 0 or below -1.
     Bdpt(const Scene& scene, BdptSettings settings);
@@ -62,7 +41,8 @@ public:
     // One sample through raster position `raster` (pixels of the full film): returns the estimate for
     // the sample's own pixel and appends light-tracing contributions to `splats`.
     [[nodiscard]] Spectrum sample(const Vec2& raster, SampleGenerator& sampler, std::vector<Splat>& splats,
-                                  SampleHealth& health, const StrategyCallback* onPath = nullptr) const;
+                                  SampleHealth& health, const StrategyCallback* onPath) const override;
+    [[nodiscard]] bool tracesLightPaths() const override { return true; }
 
     // The subpath generators, exposed for tests and for the Markov chains that reuse them. `maxVertices`
     // bounds the subpath below the limit maxDepth sets (0: that limit); multiplexed MLT asks for exactly

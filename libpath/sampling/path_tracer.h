@@ -4,13 +4,17 @@
 #pragma once
 
 #include "sampling/bdpt.h"
+#include "sampling/pixel_estimator.h"
 
 namespace lt {
 
-class PathTracer {
+class PathTracer final : public PixelEstimator {
 public:
     PathTracer(const Scene& scene, BdptSettings settings);
-    [[nodiscard]] Spectrum sample(const Vec2& raster, SampleGenerator& sampler, SampleHealth& health) const;
+    // No splats and no joined paths: `splats` and `onPath` are left alone.
+    [[nodiscard]] Spectrum sample(const Vec2& raster, SampleGenerator& sampler, std::vector<Splat>& splats,
+                                  SampleHealth& health, const StrategyCallback* onPath) const override;
+    [[nodiscard]] bool tracesLightPaths() const override { return false; }
 
 private:
     const Scene& scene_;

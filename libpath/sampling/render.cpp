@@ -3,8 +3,6 @@
 #include <oneapi/tbb/parallel_pipeline.h>
 #include <oneapi/tbb/task_arena.h>
 
-#include <chrono>
-#include <ctime>
 #include <memory>
 
 #include "math/error.h"
@@ -24,9 +22,13 @@ struct WorkItem {
     std::vector<file::PathRecord> candidates;
 };
 
-double cpuSeconds() { return double(std::clock()) / CLOCKS_PER_SEC; }
-
 } // namespace
+
+std::unique_ptr<PixelEstimator> makePixelEstimator(PixelMethod method, const Scene& scene,
+                                                   const BdptSettings& settings) {
+    if (method == PixelMethod::PathTracing) return std::make_unique<PathTracer>(scene, settings);
+    return std::make_unique<Bdpt>(scene, settings);
+}
 
 double seedWeight(const SampleFilm& film, const StrategyPath& path) {
     const double w = strategyWeight(path);
@@ -42,26 +44,21 @@ file::PathRecord seedCandidate(const Scene& scene, const SampleFilm& film, const
     return rec;
 }
 
-RenderStats render(const Scene& scene, const RenderSettings& settings, SampleFilm& film,
-                   const ProgressCallback& progress, const std::atomic<bool>* stop, SeedReservoir* seeds,
-                   const SnapshotCallback& snapshot) {
+RenderStats render(const Scene& scene, const PixelEstimator& estimator, const RenderSettings& settings,
+                   SampleFilm& film, const RunProgressCallback& progress, const std::atomic<bool>* stop,
+                   SeedReservoir* seeds, const RunSnapshotCallback& snapshot) {
     if (settings.spp < 0 || (settings.spp == 0 && !(settings.timeLimit > 0)))
         throw Error("give a positive sample count or a time limit");
-    const Bdpt bdpt(scene, settings.bdpt);
-    const PathTracer pt(scene, settings.bdpt);
     const PixelRect window = film.window();
     const int ts = std::max(1, settings.tileSize);
     const int tilesX = (window.width() + ts - 1) / ts, tilesY = (window.height() + ts - 1) / ts;
     const uint64_t tilesPerPass = uint64_t(tilesX) * uint64_t(tilesY);
     const uint64_t maxPasses = settings.spp > 0 ? uint64_t(settings.spp) : UINT64_MAX;
 
-    const auto start = std::chrono::steady_clock::now();
-    const double cpuStart = cpuSeconds();
-    auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
-
+    RunClock clock;
     RenderStats stats;
     SnapshotSchedule schedule = settings.snapshots;
-    const uint64_t raysBefore = EmbreeAccel::rayCount();
+    const uint64_t totalSamples = settings.timeLimit > 0 ? 0 : maxPasses * window.area();
     uint64_t nextItem = 0;
     bool timeUp = false;
     const int threads = settings.threads > 0 ? settings.threads : tbb::this_task_arena::max_concurrency();
@@ -79,7 +76,7 @@ RenderStats render(const Scene& scene, const RenderSettings& settings, SampleFil
                                                   }
                                                   // A time limit ends the run at a pass boundary.
                                                   if (nextItem % tilesPerPass == 0 && settings.timeLimit > 0 &&
-                                                      elapsed() >= settings.timeLimit && pass > 0) {
+                                                      clock.wallSeconds() >= settings.timeLimit && pass > 0) {
                                                       timeUp = true;
                                                       fc.stop();
                                                       return nullptr;
@@ -118,16 +115,11 @@ RenderStats render(const Scene& scene, const RenderSettings& settings, SampleFil
                                 IndependentSampler sampler(
                                     mixBits(mixBits(settings.seed ^ mixBits(uint64_t(item->pass))) + pixel), pixel);
                                 const Vec2 raster = film.sampleRaster(x, y, sampler.next2D());
-                                Spectrum L;
-                                if (settings.method == PixelMethod::Bdpt) {
-                                    splats.clear();
-                                    L = bdpt.sample(raster, sampler, splats, item->health, seeds ? &collect : nullptr);
-                                    for (const auto& s : splats)
-                                        r.splats.push_back({s.raster, s.value});
-                                    ++r.lightPaths;
-                                } else {
-                                    L = pt.sample(raster, sampler, item->health);
-                                }
+                                splats.clear();
+                                const Spectrum L =
+                                    estimator.sample(raster, sampler, splats, item->health, seeds ? &collect : nullptr);
+                                r.splats.insert(r.splats.end(), splats.begin(), splats.end());
+                                if (estimator.tracesLightPaths()) ++r.lightPaths;
                                 const size_t i = size_t(y - r.rect.y0) * size_t(r.rect.width()) + size_t(x - r.rect.x0);
                                 for (int c = 0; c < 3; ++c)
                                     r.sum[3 * i + size_t(c)] += L[c];
@@ -147,25 +139,20 @@ RenderStats render(const Scene& scene, const RenderSettings& settings, SampleFil
                     stats.health.nonFinite += item->health.nonFinite;
                     const bool passEnd = (item->index + 1) % tilesPerPass == 0;
                     if (passEnd) ++stats.passes;
-                    RenderProgress p;
-                    p.samples = stats.samples;
-                    p.totalSamples = settings.timeLimit > 0 ? 0 : maxPasses * window.area();
-                    p.wallSeconds = elapsed() - stats.snapshotSeconds;
-                    p.cpuSeconds = cpuSeconds() - cpuStart;
-                    p.snapshotSeconds = stats.snapshotSeconds;
+                    double fraction = -1;
+                    if (totalSamples > 0)
+                        fraction = double(stats.samples) / double(totalSamples);
+                    else if (settings.timeLimit > 0)
+                        fraction = std::min(1.0, clock.wallSeconds() / settings.timeLimit);
+                    RunProgress p = clock.progress("render", fraction, stats.samples, totalSamples);
                     p.passesDone = stats.passes;
-                    if (passEnd && snapshot && schedule.due(p.wallSeconds, double(stats.passes))) {
-                        const double t0 = elapsed();
-                        snapshot(p, film);
-                        ++stats.snapshots;
-                        stats.snapshotSeconds += elapsed() - t0;
-                    }
+                    if (passEnd && snapshot && schedule.due(p.wallSeconds, double(stats.passes)))
+                        clock.snapshot(
+                            snapshot, p, [&] { return film.toBuffer(); }, stats);
                     if (progress) progress(p);
                 }));
     });
-    stats.wallSeconds = elapsed() - stats.snapshotSeconds;
-    stats.cpuSeconds = cpuSeconds() - cpuStart;
-    stats.rays = EmbreeAccel::rayCount() - raysBefore;
+    clock.close(stats);
     stats.interrupted = stop && stop->load() && !timeUp && uint64_t(stats.passes) < maxPasses;
     return stats;
 }

@@ -1,4 +1,4 @@
-// The one source of randomness of every path sampler (STYLE.md, after Tungsten): BDPT and the path
+// The one source of randomness of every path sampler (after Tungsten): BDPT and the path
 // tracer draw all their numbers through this interface, so that the primary-sample-space Markov chains
 // (PSSMLT, MMLT) can drive the same code unchanged by supplying their own numbers.
 #pragma once

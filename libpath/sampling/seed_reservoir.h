@@ -1,7 +1,7 @@
 // Candidate seed paths for the Markov chains, kept in bounded memory for any sample count.
 //
 // Chains start by resampling candidates in proportion to their weight (Veach-Guibas start-up bias
-// removal, ALGORITHMS.md 1.3). Keeping every candidate would need memory proportional to the sample
+// removal; MCMC survey, Sec. 2.5). Keeping every candidate would need memory proportional to the sample
 // count, so lt keeps K independent draws, each proportional to weight over ALL candidates seen: K
 // weighted reservoirs of size one (Chao 1982) run at once. A reservoir replaces its path by the new
 // candidate with probability w / W (W the weight seen so far), independently of the others. A chain then
@@ -25,7 +25,7 @@ public:
     void add(const file::PathRecord& rec);
 
     [[nodiscard]] double totalWeight() const { return total_; }
-    // b, the integral of f* over the image (ALGORITHMS.md 1.3), from a run of `samples` camera samples
+    // b, the integral of f* over the image (MCMC survey, Eq. 12), from a run of `samples` camera samples
     // over `pixels` pixels: the candidates' weights sum to b times samples / pixels.
     [[nodiscard]] double normalization(uint64_t samples, double pixels) const {
         return samples > 0 ? total_ * pixels / double(samples) : 0.0;

@@ -23,7 +23,8 @@ struct PixelFilter {
     [[nodiscard]] double eval(double dx, double dy) const;   // separable, not normalized
     // Integral of eval over the plane (box 1, tent 1, gaussian about 1.567 for stddev 0.5): a film that
     // averages with weights (sum w f / sum w, Mitsuba's hdrfilm) needs no normalization; a splatting
-    // film divides by this so that each pixel's filter integrates to 1 (ALGORITHMS.md 1.4).
+    // film divides by this so that each pixel's filter integrates to 1 (as the
+    // Metropolis image estimator requires).
     [[nodiscard]] double integral() const;
     [[nodiscard]] std::string name() const;
 };

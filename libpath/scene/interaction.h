@@ -1,5 +1,5 @@
 // The local differential geometry at a surface point: everything the BSDFs, the path records and the
-// manifold walks (ALGORITHMS.md 1.2) need.
+// manifold walks need.
 #pragma once
 
 #include <cstdint>

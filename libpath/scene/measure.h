@@ -1,5 +1,5 @@
 // Conversions between the densities of a point sampled on a surface: area on the surface versus solid
-// angle at the point it is seen from (ALGORITHMS.md 1.1, Veach thesis Eq. 8.10). The one place for this
+// angle at the point it is seen from (Veach thesis Eq. 8.10). The one place for this
 // conversion; path vertices, emitters and the camera call it.
 #pragma once
 

@@ -1,5 +1,5 @@
 // validateMesh: the one place where every mesh loader's output is checked before it reaches Embree or
-// the samplers (DESIGN.md: no NaN or Inf ever reaches an output, errors name the file).
+// the samplers (no NaN or Inf ever reaches an output, and errors name the file).
 #include <cmath>
 #include <sstream>
 #include <string>

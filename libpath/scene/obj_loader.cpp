@@ -1,4 +1,4 @@
-// loadObj: Wavefront OBJ through tinyobjloader (DESIGN.md: packages over hand-written parsers), with the
+// loadObj: Wavefront OBJ through tinyobjloader (a package, not a hand-written parser), with the
 // checks tinyobjloader leaves out, then the shared validateMesh step.
 //
 // Conventions follow Mitsuba 0.5's `obj` shape plugin (src/shapes/obj.cpp): all groups and objects of a

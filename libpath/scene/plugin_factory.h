@@ -9,7 +9,7 @@
 
 #include "bsdf/bsdf.h"
 #include "scene/scene_object.h"
-#include "scene/texture.h"
+#include "texture/texture.h"
 
 namespace lt {
 

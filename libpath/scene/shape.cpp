@@ -158,7 +158,7 @@ SurfaceInteraction Shape::surfaceAt(uint32_t prim, const Vec2& coords) const {
         // (s, t) of the triangle's plane built from ng: its chart coordinates are the vertex positions
         // in that frame (relative to p2, for precision far from the origin), so dp/du = s, dp/dv = t and
         // the normal's derivatives come from the same formula as with uvs. The manifold walks need them
-        // (ALGORITHMS.md 1.5: the curvature part of the constraint Jacobian).
+        // (the curvature part of the constraint Jacobian).
         TriangleChart chart(uv0, uv1, uv2);
         bool uvChart = std::abs(chart.det) >= 1e-12;
         if (uvChart) {

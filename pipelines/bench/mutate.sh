@@ -3,12 +3,12 @@
 # rays/s and acceptance per strategy for each chain space, at 1 and 2 threads, with peak memory. Run it
 # on an otherwise idle machine.
 #   [SPACES="path primary multiplexed"] pipelines/bench/mutate.sh [SECONDS] [SCENE...]
-#   (default: 20 s, all three spaces; shared cornell-box and veach-bidir)
+#   (default: 20 s, all three spaces; scenes/cornell-box and scenes/veach-bidir)
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 seconds="${1:-20}"; shift || true
 scenes=("$@")
-[ ${#scenes[@]} -gt 0 ] || scenes=("$root/../shared/scenes/cornell-box/scene.xml" "$root/../shared/scenes/veach-bidir/scene.xml")
+[ ${#scenes[@]} -gt 0 ] || scenes=("$root/scenes/cornell-box/scene.xml" "$root/scenes/veach-bidir/scene.xml")
 bin="${BUILD_DIR:-$root/build}/bin"
 out="$(mktemp -d)"
 trap 'rm -rf "$out"' EXIT

@@ -2,10 +2,10 @@
 # Benchmark of lt-seed (report the numbers in the issue note; nothing here is asserted):
 # samples/s and rays/s of path tracing and BDPT at 1 and 2 threads, peak memory, and the raw incoherent
 # ray rate of the same scene as the bound. Run it on an otherwise idle machine.
-#   pipelines/bench/seed.sh [SCENE] [SPP]     (default: ../shared/scenes/cornell-box/scene.xml, 16 spp)
+#   pipelines/bench/seed.sh [SCENE] [SPP]     (default: scenes/cornell-box/scene.xml, 16 spp)
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
-scene="${1:-$root/../shared/scenes/cornell-box/scene.xml}"
+scene="${1:-$root/scenes/cornell-box/scene.xml}"
 spp="${2:-16}"
 bin="${BUILD_DIR:-$root/build}/bin"
 out="$(mktemp -d)"

@@ -30,17 +30,6 @@ inline nlohmann::json makeInfo(const std::string& producer, int argc, char** arg
     return info;
 }
 
-// A STAT table of named figures in one column "value" (formats/SPEC.md: the "run", "normalization" and
-// "reconstruct" tables), rows in the given order.
-inline file::StatTable valueTable(std::string name, const std::vector<std::pair<std::string, double>>& rows) {
-    file::StatTable t{std::move(name), {"value"}, {}, {}};
-    for (const auto& [row, value] : rows) {
-        t.rows.push_back(row);
-        t.values.push_back({value});
-    }
-    return t;
-}
-
 // -D NAME=VALUE scene parameters.
 inline std::map<std::string, std::string> parseDefines(const std::vector<std::string>& defines) {
     std::map<std::string, std::string> params;

@@ -1,4 +1,4 @@
-// Veach and Guibas' bidirectional mutation (ALGORITHMS.md 2.1): delete a range of vertices x_{l+1} ..
+// Veach and Guibas' bidirectional mutation (Veach 1997, Sec. 11.4): delete a range of vertices x_{l+1} ..
 // x_{m-1} and replace it by ka - 1 new vertices, s sampled from the light side (from x_l) and the rest
 // from the eye side (from x_m), joined by a deterministic connection. It changes path length and
 // configuration and regenerates whole paths, so it makes the chain ergodic; every other mutation is
@@ -10,8 +10,8 @@
 //   then re-sampled on an area emitter; a point light's position is never re-sampled);
 // * ka edges added, P(ka) proportional to 2^-|ka - kd|, |ka - kd| <= 8, within the maximum length;
 // * the split s uniform in [0, ka - 1].
-// T(x -> y) sums over every split that could have produced y (ALGORITHMS.md 2.1 step 6); the reverse
-// move deletes the new range and re-adds kd edges.
+// T(x -> y) sums over every split that could have produced y (the same y comes from any of them); the
+// reverse move deletes the new range and re-adds kd edges.
 #pragma once
 
 #include "mcmc/mutation.h"

@@ -48,7 +48,7 @@ void CausticPerturbation::propose(const MarkovPath& x, Pcg32& rng, Proposal& out
     const int k = x.edges();
     const int l = chainStart(x);
     const PathVertex& start = x.v[size_t(l)];
-    // 1. Turn the direction leaving x_l (ALGORITHMS.md 2.3 step 2).
+    // 1. Turn the direction leaving x_l.
     const ReciprocalKernel range = angles(x);
     const double theta = range.sample(rng.nextDouble());
     const double phi = 2 * Pi * rng.nextDouble();
@@ -63,7 +63,8 @@ void CausticPerturbation::propose(const MarkovPath& x, Pcg32& rng, Proposal& out
         return;
     }
     if (!evaluateProposal(scene_, x, out)) return;
-    // 3. Q both ways; the reverse turn by the same theta has the density of y's range (pitfall P-2).
+    // 3. Q both ways; the reverse turn by the same theta has the density of y's range
+    // (the kernel depends on the state, so the reverse density takes its parameters at y).
     setTransitionDensities(out, x, sampled, chainDensity(out.y, pdfDir),
                            chainDensity(x, angles(out.y).sphereDensity(theta)));
 }

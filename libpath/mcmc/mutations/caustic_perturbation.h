@@ -1,4 +1,4 @@
-// Veach and Guibas' caustic perturbation (ALGORITHMS.md 2.3; Veach thesis 11.4.3) for paths ending
+// Veach and Guibas' caustic perturbation (Veach thesis 11.4.3) for paths ending
 // (D|L) S+ D E: turn the direction leaving x_l (the light end of the specular chain) by an angle theta
 // with density proportional to 1 / theta on [theta1, theta2], follow the chain keeping each vertex's
 // lobe kind to x_{k-1}', and connect it to the camera (the raster position follows).
@@ -6,7 +6,8 @@
 // Ranges: theta_{1,2} = (radians per pixel) r_{1,2} d_E / d_L with the lens perturbation's raster radii,
 // d_E = |x_{k-1} x_k| and d_L the length of the chain from x_l to x_{k-1}: x_{k-1} then moves on the
 // image about as far as under the lens perturbation. They depend on the path, so the kernel is not
-// symmetric (pitfall P-2): T(y -> x) uses the ranges of y and is 0 when theta falls outside them.
+// symmetric and the reverse density needs the parameters of the proposal: T(y -> x) uses the ranges of
+// y and is 0 when theta falls outside them.
 //
 // T in the measure of f: the solid-angle density of the new direction at x_l converted to the area of
 // x_{l+1}', times G for each vertex after a specular one (the stripped density with the lobe fixed).
@@ -25,7 +26,7 @@ public:
     [[nodiscard]] bool suitable(const MarkovPath& x) const override;
     void propose(const MarkovPath& x, Pcg32& rng, Proposal& out) const override;
 
-    // The angle range of a suitable path (pitfall P-2: evaluated at each state).
+    // The angle range of a suitable path (evaluated at each state: T(y -> x) needs y's own range).
     [[nodiscard]] ReciprocalKernel angles(const MarkovPath& path) const;
     // The stripped area density of the chain's vertices x_{l+1} .. x_{k-1} given the direction's
     // solid-angle density at x_l.

@@ -16,7 +16,7 @@ bool LensPerturbation::suitable(const MarkovPath& x) const {
 void LensPerturbation::propose(const MarkovPath& x, Pcg32& rng, Proposal& out) const {
     out = Proposal{};
     const int j = firstNonSpecularFromEye(x.v);
-    // 1.-2. The raster offset and the camera ray through the chain to x_j' (ALGORITHMS.md 2.2 steps 2-3).
+    // 1.-2. The raster offset and the camera ray through the chain to x_j'.
     double sampled = 1;
     const auto pOffset = perturbLensChain(scene_, sensor_, radius_, x, j, rng, out, sampled);
     if (!pOffset) return;

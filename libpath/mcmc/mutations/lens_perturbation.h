@@ -1,4 +1,4 @@
-// Veach and Guibas' lens perturbation (ALGORITHMS.md 2.2; Veach thesis 11.4.3) for paths whose eye end is
+// Veach and Guibas' lens perturbation (Veach thesis 11.4.3) for paths whose eye end is
 // (L|D) D S* E: move the raster position by an offset of length r in [r1, r2] (density 1 / (r ln(r2 /
 // r1)), uniform angle), trace the new camera ray through the specular chain keeping each vertex's lobe
 // kind to the first non-specular vertex x_j', and connect it to the unchanged x_{j-1}.

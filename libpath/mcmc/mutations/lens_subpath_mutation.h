@@ -1,4 +1,4 @@
-// Veach's lens subpath mutation (ALGORITHMS.md 2.5; Veach thesis ch. 11) for paths whose eye end is
+// Veach's lens subpath mutation (Veach thesis ch. 11) for paths whose eye end is
 // (L|D) D S* E: delete the lens subpath x_j .. x_{k-1} (the first non-specular vertex seen from the camera
 // and the specular chain in front of it) and trace a fresh one through a raster position uniform over the
 // sensor window: at each hit choose a delta lobe with its own probability and go on, or stop there with

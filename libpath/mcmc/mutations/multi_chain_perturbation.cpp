@@ -44,7 +44,7 @@ double MultiChainPerturbation::density(const MarkovPath& path, double pOffset,
 void MultiChainPerturbation::propose(const MarkovPath& x, Pcg32& rng, Proposal& out) const {
     out = Proposal{};
     const auto d = stops(x);
-    // 1. The lens perturbation through the first chain (ALGORITHMS.md 2.4 step 1).
+    // 1. The lens perturbation through the first chain.
     double sampled = 1;
     const auto pOffset = perturbLensChain(scene_, sensor_, radius_, x, d[0], rng, out, sampled);
     if (!pOffset) return;

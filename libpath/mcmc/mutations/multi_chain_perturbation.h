@@ -1,4 +1,4 @@
-// Veach and Guibas' multi-chain perturbation (ALGORITHMS.md 2.4; Veach thesis 11.4.4) for paths whose eye
+// Veach and Guibas' multi-chain perturbation (Veach thesis 11.4.4) for paths whose eye
 // end is D S+ D S* E, possibly with more specular chains behind, ending at the first pair of adjacent
 // non-specular vertices (the light counts as one): a lens perturbation through the first chain to x_j';
 // then at each further non-specular vertex x_d' the OLD direction x_d -> x_{d-1} is turned by an angle

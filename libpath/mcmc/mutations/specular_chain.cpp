@@ -149,7 +149,7 @@ int firstNonSpecularFromEye(const std::vector<PathVertex>& v) {
 
 std::optional<double> perturbLensChain(const Scene& scene, const SensorWindow& sensor, const ReciprocalKernel& radius,
                                        const MarkovPath& x, int to, Pcg32& rng, Proposal& out, double& sampled) {
-    // Off the sensor window is off the image (ALGORITHMS.md 2.2 step 2).
+    // Off the sensor window is off the image.
     const auto cam = perturbCamera(scene.camera, sensor, radius, x.raster, rng);
     if (!cam) {
         out.failed = RejectCause::LeftImage;

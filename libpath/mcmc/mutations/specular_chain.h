@@ -1,5 +1,5 @@
-// Pieces shared by Veach's perturbations (lens, caustic, multi-chain; ALGORITHMS.md 2.2-2.4; Veach
-// thesis 11.4.3-11.4.4): a path is moved by perturbing one direction (or the raster position) and
+// Pieces shared by Veach's perturbations (lens, caustic, multi-chain; Veach thesis
+// 11.4.3-11.4.4): a path is moved by perturbing one direction (or the raster position) and
 // following its specular chains with the SAME lobe kind at each specular vertex, so no lobe is chosen
 // and the proposal density has no lobe probability in it.
 //
@@ -22,7 +22,7 @@
 namespace lt {
 
 // A length (raster radius or angle) with density 1 / (x ln(hi / lo)) on [lo, hi]: Veach's perturbation
-// sizes, spread evenly over orders of magnitude (thesis 11.4.3; ALGORITHMS.md 2.2 step 2).
+// sizes, spread evenly over orders of magnitude (thesis 11.4.3).
 struct ReciprocalKernel {
     double lo = 0, hi = 0;
 
@@ -42,7 +42,7 @@ struct ReciprocalKernel {
 [[nodiscard]] Vec3 rotateDirection(const Vec3& dir, double theta, double phi);
 
 // Veach's raster radii for an image of the crop window's size: r1 = 0.1 px, r2 = sqrt(0.05 W H / pi) px
-// (a disk of 5 % of the image; ALGORITHMS.md 2.2, after Mitsuba's "jump sizes recommended by Veach").
+// (a disk of 5 % of the image, after Mitsuba's "jump sizes recommended by Veach").
 [[nodiscard]] ReciprocalKernel rasterRadii(const PerspectiveCamera& camera);
 
 // The scattering kind of a vertex: LobeReflection or LobeTransmission.
@@ -69,7 +69,7 @@ struct ReciprocalKernel {
                                                      std::vector<PathVertex>& v, int from, int to, const Ray& ray,
                                                      double pdfDir, Transport mode, double& density);
 
-// The lens perturbation's first step (ALGORITHMS.md 2.2 step 2), shared with the multi-chain
+// The lens perturbation's first step, shared with the multi-chain
 // perturbation: a raster position at distance r from `raster` (density pOffset per unit raster area)
 // and the camera ray through it with its solid-angle density; nothing when it leaves the sensor window.
 struct CameraPerturbation {

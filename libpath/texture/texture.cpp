@@ -12,11 +12,11 @@
 #include <cmath>
 
 #include "math/error.h"
-#include "scene/texture.h"
+#include "texture/texture.h"
 
 namespace lt {
 
-Spectrum CheckerboardTexture::eval(const Vec2 &uv) const {
+Spectrum CheckerboardTexture::eval(const Vec2& uv) const {
     // Mitsuba 0.5 src/textures/checkerboard.cpp: color0 where int(2u') and int(2v') have the same parity,
     // so one unit of uv' holds 2x2 checks. The conversion truncates toward zero (a C cast, not floor),
     // which makes the checks around u' = 0 or v' = 0 twice as wide; we keep that to match Mitsuba.
@@ -30,20 +30,19 @@ Spectrum CheckerboardTexture::eval(const Vec2 &uv) const {
 namespace {
 
 // IEC 61966-2-1 (sRGB) decoding, as Mitsuba's Bitmap uses for gamma = -1.
-float srgbToLinear(float v) {
-    return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
-}
+float srgbToLinear(float v) { return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f); }
 
 std::string oneLine(std::string message) {
-    while (!message.empty() && (message.back() == '\n' || message.back() == '\r')) message.pop_back();
-    for (char &c : message)
+    while (!message.empty() && (message.back() == '\n' || message.back() == '\r'))
+        message.pop_back();
+    for (char& c : message)
         if (c == '\n' || c == '\r') c = ' ';
     return message;
 }
 
 } // namespace
 
-BitmapTexture::BitmapTexture(const std::string &filename, double gamma, const Vec2 &offset, const Vec2 &scale)
+BitmapTexture::BitmapTexture(const std::string& filename, double gamma, const Vec2& offset, const Vec2& scale)
     : offset_(offset), scale_(scale) {
     // Mitsuba's bitmap `gamma`: 0 (the default) detects the encoding from the file, -1 forces the sRGB
     // curve, a positive value g decodes as value^g (1 = linear).
@@ -58,7 +57,7 @@ BitmapTexture::BitmapTexture(const std::string &filename, double gamma, const Ve
     config.attribute("oiio:UnassociatedAlpha", 1);
     auto in = OIIO::ImageInput::open(filename, &config);
     if (!in) throw Error(filename + ": cannot read image (" + oneLine(OIIO::geterror()) + ")");
-    const OIIO::ImageSpec &spec = in->spec();
+    const OIIO::ImageSpec& spec = in->spec();
     width_ = spec.width;
     height_ = spec.height;
     const int channels = spec.nchannels;
@@ -87,24 +86,25 @@ BitmapTexture::BitmapTexture(const std::string &filename, double gamma, const Ve
     Spectrum sum;
     for (int y = 0; y < height_; ++y)
         for (int x = 0; x < width_; ++x) {
-            const float *p = &pixels[(size_t(y) * size_t(width_) + size_t(x)) * size_t(channels)];
+            const float* p = &pixels[(size_t(y) * size_t(width_) + size_t(x)) * size_t(channels)];
             for (int c = 0; c < colorChannels; ++c)
                 if (!std::isfinite(p[c]))
                     throw Error(filename + ": pixel (" + std::to_string(x) + ", " + std::to_string(y) +
                                 ") is not finite");
-            float *out = &rgb_[(size_t(y) * size_t(width_) + size_t(x)) * 3];
-            for (int c = 0; c < 3; ++c) out[c] = decode(p[colorChannels == 3 ? c : 0]);
+            float* out = &rgb_[(size_t(y) * size_t(width_) + size_t(x)) * 3];
+            for (int c = 0; c < 3; ++c)
+                out[c] = decode(p[colorChannels == 3 ? c : 0]);
             sum += texel(x, y);
         }
     average_ = sum / (double(width_) * double(height_));
 }
 
 Spectrum BitmapTexture::texel(int x, int y) const {
-    const float *p = &rgb_[(size_t(y) * size_t(width_) + size_t(x)) * 3];
+    const float* p = &rgb_[(size_t(y) * size_t(width_) + size_t(x)) * 3];
     return {p[0], p[1], p[2]};
 }
 
-Spectrum BitmapTexture::eval(const Vec2 &uv) const {
+Spectrum BitmapTexture::eval(const Vec2& uv) const {
     // Bilinear interpolation between the four nearest texel centres (Mitsuba's evalBilinear), wrapping
     // around the edges (Mitsuba's default wrapMode `repeat`).
     const double u = (uv.x * scale_.x + offset_.x) * width_ - 0.5;

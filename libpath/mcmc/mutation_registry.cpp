@@ -1,0 +1,62 @@
+#include "mcmc/mutation_registry.h"
+
+#include "mcmc/mutations/bidirectional_mutation.h"
+#include "mcmc/mutations/caustic_perturbation.h"
+#include "mcmc/mutations/lens_perturbation.h"
+#include "mcmc/mutations/lens_subpath_mutation.h"
+#include "mcmc/mutations/multi_chain_perturbation.h"
+
+namespace lt {
+
+namespace {
+
+std::string always(const SceneFeatures&) { return {}; }
+
+// The caustic and multi-chain perturbations move only paths through specular chains (Veach and Guibas
+// 1997): without one in the scene they could never propose anything.
+std::string needsSpecularChains(const SceneFeatures& features) {
+    return features.specularChains ? std::string() : features.specularReason;
+}
+
+std::string optional(const SceneFeatures&) {
+    return "optional (Veach 1997; Mitsuba dropped it for want of a gain); ask for it with --strategies";
+}
+
+std::string planned(const SceneFeatures&) { return "not built yet"; }
+
+const MutationKind Kinds[] = {
+    {"bidirectional", "mutation", "replaces any part of a path; required: the others alone are not ergodic",
+     [](const Scene& s, int maxEdges) -> std::unique_ptr<Mutation> {
+         return std::make_unique<BidirectionalMutation>(s, maxEdges);
+     },
+     always},
+    {"lens", "perturbation", "moves the eye end of (L|D) D S* E paths to a nearby raster position",
+     [](const Scene& s, int) -> std::unique_ptr<Mutation> { return std::make_unique<LensPerturbation>(s); }, always},
+    {"caustic", "perturbation",
+     "turns the light end of (L|D) S+ D E paths: caustics on a diffuse surface seen directly",
+     [](const Scene& s, int) -> std::unique_ptr<Mutation> { return std::make_unique<CausticPerturbation>(s); },
+     needsSpecularChains},
+    {"multi-chain", "perturbation", "the lens perturbation carried through D S+ D S* E paths, chain after chain",
+     [](const Scene& s, int) -> std::unique_ptr<Mutation> { return std::make_unique<MultiChainPerturbation>(s); },
+     needsSpecularChains},
+    {"lens-subpath", "mutation", "a fresh eye end of (L|D) D S* E paths through a random raster position",
+     [](const Scene& s, int maxEdges) -> std::unique_ptr<Mutation> {
+         return std::make_unique<LensSubpathMutation>(s, maxEdges);
+     },
+     optional},
+    {"manifold", "perturbation", "manifold exploration (not built yet)", nullptr, planned},
+    {"half-vector", "mutation", "half-vector space light transport (not built yet)", nullptr, planned},
+    {"portal", "perturbation", "portal-based perturbation (not built yet)", nullptr, planned},
+};
+
+} // namespace
+
+std::span<const MutationKind> mutationKinds() { return Kinds; }
+
+const MutationKind* findMutationKind(const std::string& name) {
+    for (const auto& k : Kinds)
+        if (name == k.name) return &k;
+    return nullptr;
+}
+
+} // namespace lt

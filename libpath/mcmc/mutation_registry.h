@@ -1,0 +1,31 @@
+// Every path-space mutation lt knows, in one table: its name on the command line, what it moves, how to
+// make it for a scene, and the rule `--strategies auto` applies. A new mutation is one row of the table
+// (mutation_registry.cpp); strategy selection, lt-mutate's help and its messages read it from here.
+#pragma once
+
+#include <memory>
+#include <span>
+#include <string>
+
+#include "mcmc/mutation.h"
+#include "scene/scene_features.h"
+
+namespace lt {
+
+struct MutationKind {
+    const char* name;    // --strategies NAME
+    const char* noun;    // "mutation" or "perturbation": how messages call it
+    const char* summary; // what it moves, for --help
+    // Makes the mutation for a scene and a bound on path edges; null for a mutation of the papers that
+    // lt does not have yet (named so that asking for it is a clear error).
+    std::unique_ptr<Mutation> (*make)(const Scene& scene, int maxEdges);
+    // Empty when `auto` uses it on a scene with these features; otherwise why auto leaves it out.
+    std::string (*autoLeavesOut)(const SceneFeatures& features);
+};
+
+// The table, in the order mixes and messages list them.
+[[nodiscard]] std::span<const MutationKind> mutationKinds();
+// The row named `name`, or null.
+[[nodiscard]] const MutationKind* findMutationKind(const std::string& name);
+
+} // namespace lt

@@ -1,0 +1,51 @@
+#include "sampling/run_clock.h"
+
+#include <ctime>
+
+#include "scene/accel.h"
+
+namespace lt {
+
+namespace {
+// Process CPU time: all threads of the run together.
+double processCpuSeconds() { return double(std::clock()) / CLOCKS_PER_SEC; }
+} // namespace
+
+RunClock::RunClock(std::optional<TimePoint> start)
+    : start_(start.value_or(std::chrono::steady_clock::now())), cpuStart_(processCpuSeconds()),
+      raysBefore_(EmbreeAccel::rayCount()) {}
+
+double RunClock::wallSeconds() const {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count() - snapshotSeconds_;
+}
+
+double RunClock::cpuSeconds() const { return processCpuSeconds() - cpuStart_; }
+
+RunProgress RunClock::progress(const char* phase, double fraction, uint64_t samples, uint64_t totalSamples) const {
+    RunProgress p;
+    p.phase = phase;
+    p.fraction = fraction;
+    p.samples = samples;
+    p.totalSamples = totalSamples;
+    p.wallSeconds = wallSeconds();
+    p.cpuSeconds = cpuSeconds();
+    p.snapshotSeconds = snapshotSeconds_;
+    return p;
+}
+
+void RunClock::snapshot(const RunSnapshotCallback& write, const RunProgress& progress,
+                        const std::function<file::Buffer()>& develop, RunRecord& record) {
+    const auto t0 = std::chrono::steady_clock::now();
+    write(progress, develop());
+    ++record.snapshots;
+    snapshotSeconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+void RunClock::close(RunRecord& record) const {
+    record.wallSeconds = wallSeconds();
+    record.cpuSeconds = cpuSeconds();
+    record.snapshotSeconds = snapshotSeconds_;
+    record.rays = EmbreeAccel::rayCount() - raysBefore_;
+}
+
+} // namespace lt

@@ -1,0 +1,45 @@
+#include "sampling/seed_file.h"
+
+#include <algorithm>
+#include <cmath>
+#include <span>
+
+#include "math/error.h"
+
+namespace lt {
+
+namespace {
+constexpr const char* TableName = "normalization";
+constexpr size_t PathsPerChunk = 4096;
+} // namespace
+
+SeedFileWritten writeSeedFile(file::Writer& writer, const SeedReservoir& reservoir, uint64_t samples, double pixels) {
+    const double b = reservoir.normalization(samples, pixels);
+    const auto draws = reservoir.draws();
+    for (size_t i = 0; i < draws.size(); i += PathsPerChunk)
+        writer.writePaths(std::span(draws).subspan(i, std::min(PathsPerChunk, draws.size() - i)));
+    writer.writeStats(file::valueTable(TableName, {{"b", b},
+                                                   {"samples", double(samples)},
+                                                   {"candidates", double(reservoir.candidates())},
+                                                   {"kept", double(draws.size())}}));
+    writer.finish();
+    return {b, draws.size()};
+}
+
+SeedFile readSeedFile(file::Content&& content) {
+    double b = -1, samples = -1;
+    for (const auto& t : content.stats)
+        if (t.name == TableName)
+            for (size_t r = 0; r < t.rows.size(); ++r) {
+                if (t.values[r].empty()) continue;
+                if (t.rows[r] == "b") b = t.values[r][0];
+                if (t.rows[r] == "samples") samples = t.values[r][0];
+            }
+    if (!(b >= 0) || !std::isfinite(b))
+        throw Error(content.name + ": no normalization b (STAT \"normalization\"); was it written by lt-seed --paths?");
+    if (!(samples >= 1) || !std::isfinite(samples))
+        throw Error(content.name + ": no sample count of the seed run (STAT \"normalization\" row \"samples\")");
+    return {std::move(content.paths), b, uint64_t(samples)};
+}
+
+} // namespace lt

@@ -43,7 +43,7 @@ inline std::vector<float> runChains(const Scene& scene, PrimarySpace space, int 
     SampleFilm film(scene.camera);
     PrimarySpaceSettings ps;
     ps.space = space;
-    ps.bdpt.maxDepth = maxDepth;
+    ps.paths.maxDepth = maxDepth;
     ps.startupSamples = startup;
     ChainRunSettings rs;
     rs.mutations = mutations;
@@ -62,7 +62,7 @@ inline std::vector<float> runPathMix(const Scene& scene, const std::string& stra
                                      uint64_t mutations, uint64_t seed, int threads = 2, uint64_t seedSamples = 20000,
                                      MutationStatistics* stats = nullptr) {
     SampleFilm film(scene.camera);
-    BdptSettings b;
+    PathSettings b;
     b.maxDepth = maxDepth;
     const auto seeds = seedWithBdpt(scene, b, seedSamples, 1024, seed * 7919 + 1, threads, nullptr);
     std::vector<std::unique_ptr<Mutation>> owned;
@@ -118,12 +118,12 @@ inline void checkAgainstBdpt(Scene& scene, int depth, int runs,
             out.push_back(meanAndError(v));
         return out;
     };
-    BdptSettings b;
+    PathSettings b;
     b.maxDepth = depth;
     const auto reference = collect([&](uint64_t seed) {
         SampleFilm film(scene.camera);
         RenderSettings rs;
-        rs.bdpt = b;
+        rs.paths = b;
         rs.spp = 64;
         rs.seed = 100 + seed;
         render(scene, Bdpt(scene, b), rs, film, {}, nullptr);

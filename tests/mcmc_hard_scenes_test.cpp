@@ -48,7 +48,7 @@ TEST_CASE("multiplexed chains reach a path length the start-up missed", "[mcmc][
     SampleFilm film(scene->camera);
     PrimarySpaceSettings ps;
     ps.space = PrimarySpace::Multiplexed;
-    ps.bdpt.maxDepth = scene->integrator.maxDepth;
+    ps.paths.maxDepth = scene->integrator.maxDepth;
     ps.startupSamples = 20;
     ChainRunSettings rs;
     rs.mutations = 1 << 22;

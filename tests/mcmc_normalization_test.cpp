@@ -168,11 +168,11 @@ TEST_CASE("over 16 seeds the chains' image means on cornell-box agree with BDPT 
     for (uint64_t seed = 0; seed < 8; ++seed) {
         SampleFilm film(scene->camera);
         RenderSettings rs;
-        rs.bdpt.maxDepth = depth;
-        rs.bdpt.rrDepth = scene->integrator.rrDepth;
+        rs.paths.maxDepth = depth;
+        rs.paths.rrDepth = scene->integrator.rrDepth;
         rs.spp = 32;
         rs.seed = 1000 + seed;
-        render(*scene, Bdpt(*scene, rs.bdpt), rs, film, {}, nullptr);
+        render(*scene, Bdpt(*scene, rs.paths), rs, film, {}, nullptr);
         bdpt.push_back(mean(film.develop()));
     }
     const auto reference = meanAndError(bdpt);
@@ -197,7 +197,7 @@ TEST_CASE("over 16 seeds the chains' image means on cornell-box agree with BDPT 
     // sample per 16 mutations refines b. The image mean is b times the chains' mean f / f*, so its spread
     // is mostly b's: before the refinement, 1.8 % over these 16 seeds (lt-mutate's measurement).
     check("path-space MLT", [&](uint64_t seed) {
-        BdptSettings b;
+        PathSettings b;
         b.maxDepth = depth;
         b.rrDepth = scene->integrator.rrDepth;
         const auto seeds = seedWithBdpt(*scene, b, 100000, 1024, seed * 7919 + 1, 2, nullptr);
@@ -240,7 +240,7 @@ TEST_CASE("a long MMLT run's relMSE keeps falling as 1 / mutations", "[mcmc][slo
     SampleFilm film(scene->camera);
     PrimarySpaceSettings ps;
     ps.space = PrimarySpace::Multiplexed;
-    ps.bdpt.maxDepth = depth;
+    ps.paths.maxDepth = depth;
     ps.startupSamples = 10;
     ChainRunSettings rs;
     rs.mutations = uint64_t(64) << 16;

@@ -188,7 +188,7 @@ TEST_CASE("path-space chains visit a tiny path space in proportion to f*", "[mcm
 
     // Seeds are draws in proportion to f*, so every chain starts in the stationary distribution: no
     // burn-in is discarded.
-    BdptSettings bdpt;
+    PathSettings bdpt;
     bdpt.maxDepth = 2;
     const auto seeds = seedWithBdpt(*scene, bdpt, 16384, 4096, 17, 2, nullptr);
     const auto regions = testRegions();

@@ -3,10 +3,13 @@
 // from the spread of independent chains (or runs), never from an observed value.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <numeric>
+#include <optional>
 
+#include "manifold/chains_in_path.h"
 #include "math/error.h"
 #include "mcmc/metropolis.h"
 #include "mcmc/mutations/bidirectional_mutation.h"
@@ -18,12 +21,25 @@
 #include "mcmc/primary_sample_vector.h"
 #include "mcmc/primary_space_chains.h"
 #include "mcmc/strategy_selection.h"
+#include "path/path_record.h"
 #include "sampling/render.h"
 #include "chain_runs.h"
 #include "test_util.h"
 
 using namespace lt;
 using namespace lt::test;
+
+namespace {
+// The chain state of seed record i, or nothing when it does not fit the scene (seed runs keep a few
+// records that no longer carry light once re-created; the tests skip them).
+std::optional<MarkovPath> stateOf(const Scene& scene, const file::PathRecord& record, size_t i) {
+    try {
+        return pathFromRecord(scene, record, i);
+    } catch (const Error&) {
+        return std::nullopt;
+    }
+}
+} // namespace
 
 TEST_CASE("primary sample vector: rejection restores, streams are independent, large steps are fresh", "[mcmc]") {
     PrimarySampleVector u(Pcg32(1, 1), Pcg32(2, 2));
@@ -186,7 +202,7 @@ TEST_CASE("bidirectional mutation: the density it samples with is the one T(x ->
     for (const std::string name : {"cornell-spheres", "cornell-box"}) {
         auto scene = loadScene(test::shippedScene(name));
         scene->camera = scene->camera.withResolution(32, 32);
-        BdptSettings b;
+        PathSettings b;
         b.maxDepth = 8;
         const auto seeds = seedWithBdpt(*scene, b, 20000, name == "cornell-box" ? 50 : 5000, 1, 2, nullptr);
         const BidirectionalMutation bidir(*scene, 8);
@@ -194,12 +210,9 @@ TEST_CASE("bidirectional mutation: the density it samples with is the one T(x ->
         int checked = 0, specular = 0, off = 0, dropped = 0;
         double worst = 0;
         for (size_t i = 0; i < seeds.paths.size(); ++i) {
-            MarkovPath x;
-            try {
-                x = pathFromRecord(*scene, seeds.paths[i], i);
-            } catch (const Error&) {
-                continue;
-            }
+            const auto state = stateOf(*scene, seeds.paths[i], i);
+            if (!state) continue;
+            const MarkovPath& x = *state;
             // On the sphere scene, start from paths through the glass or the mirror, so that specular
             // vertices are kept, deleted and re-sampled.
             bool throughSpecular = false;
@@ -279,7 +292,7 @@ TEST_CASE("a seed path's f / p recomputed from scratch equals the BDPT contribut
     // this ties the delta stripping of specular vertices to BDPT's throughput weights.
     auto scene = loadScene(test::shippedScene("cornell-spheres"));
     scene->camera = scene->camera.withResolution(32, 32);
-    BdptSettings b;
+    PathSettings b;
     b.maxDepth = 6;
     const auto seeds = seedWithBdpt(*scene, b, 20000, 3000, 2, 2, nullptr);
     const BidirectionalMutation bidir(*scene, 6);
@@ -288,12 +301,9 @@ TEST_CASE("a seed path's f / p recomputed from scratch equals the BDPT contribut
     int checked = 0, specular = 0, bad = 0;
     for (size_t i = 0; i < seeds.paths.size(); ++i) {
         const auto& rec = seeds.paths[i];
-        MarkovPath x;
-        try {
-            x = pathFromRecord(*scene, rec, i);
-        } catch (const Error&) {
-            continue;
-        }
+        const auto state = stateOf(*scene, rec, i);
+        if (!state) continue;
+        const MarkovPath& x = *state;
         const int k = x.edges();
         double split = 0;
         (void)bidir.newVertexDensity(x, 0, k - 1, rec.s, &split);
@@ -325,6 +335,40 @@ TEST_CASE("a seed path's f / p recomputed from scratch equals the BDPT contribut
 
 // ---- Veach's perturbations (Veach thesis 11.4.3-11.4.4) ----
 
+TEST_CASE("a chain state's specular chains are the same from its vertices and from its record; a record "
+          "that does not fit the scene is refused naming it",
+          "[mcmc][manifold]") {
+    auto scene = loadScene(test::shippedScene("cornell-spheres"), {{"res", "32"}});
+    PathSettings b;
+    b.maxDepth = 6;
+    const auto seeds = seedWithBdpt(*scene, b, 20000, 400, 3, 2, nullptr);
+    size_t withChains = 0;
+    for (size_t i = 0; i < seeds.paths.size(); ++i) {
+        const auto x = stateOf(*scene, seeds.paths[i], i);
+        if (!x) continue;
+        const auto fromMemory = specularChains(x->v);
+        const auto fromRecord = specularChains(*scene, toPathRecord(*scene, *x, 0, 0), "state");
+        REQUIRE(fromMemory.size() == fromRecord.size());
+        for (size_t c = 0; c < fromMemory.size(); ++c) {
+            CHECK(fromMemory[c].first == fromRecord[c].first);
+            CHECK(fromMemory[c].last == fromRecord[c].last);
+            REQUIRE(fromMemory[c].chain.size() == fromRecord[c].chain.size());
+            CHECK(fromMemory[c].chain.size() == fromMemory[c].last - fromMemory[c].first + 1);
+            for (size_t j = 0; j < fromMemory[c].chain.size(); ++j)
+                CHECK(length(fromMemory[c].chain[j].p - fromRecord[c].chain[j].p) == 0);
+        }
+        withChains += !fromMemory.empty();
+    }
+    CHECK(withChains >= 20); // the glass and mirror spheres: most seed paths pass through one
+    const auto longer =
+        std::find_if(seeds.paths.begin(), seeds.paths.end(), [](const auto& p) { return p.vertices.size() >= 3; });
+    REQUIRE(longer != seeds.paths.end());
+    auto bad = *longer;
+    bad.vertices[1].prim = 1u << 30;
+    CHECK(errorOf([&] { (void)verticesFromRecord(*scene, bad, "bad.ltp path 0"); }) ==
+          "bad.ltp path 0: names a primitive its shape lacks");
+}
+
 namespace {
 
 // The perturbation (or lens-subpath mutation) of a name, for the scene and paths of up to maxEdges.
@@ -347,16 +391,12 @@ TEST_CASE("lens, caustic, multi-chain perturbations, lens subpath: the density s
     // lobes and where it stops: its density includes those choices.
     auto scene = loadScene(test::shippedScene("cornell-spheres"));
     scene->camera = scene->camera.withResolution(32, 32);
-    BdptSettings b;
+    PathSettings b;
     b.maxDepth = 8;
     const auto seeds = seedWithBdpt(*scene, b, 40000, 6000, 1, 2, nullptr);
     std::vector<MarkovPath> paths;
-    for (size_t i = 0; i < seeds.paths.size(); ++i) {
-        try {
-            paths.push_back(pathFromRecord(*scene, seeds.paths[i], i));
-        } catch (const Error&) {
-        }
-    }
+    for (size_t i = 0; i < seeds.paths.size(); ++i)
+        if (auto x = stateOf(*scene, seeds.paths[i], i)) paths.push_back(std::move(*x));
     const SensorWindow sensor(scene->camera);
     for (const std::string name : {"lens", "caustic", "multi-chain", "lens-subpath"}) {
         const auto mutation = makePerturbation(name, *scene, b.maxDepth);

@@ -38,11 +38,11 @@ PixelStats stats(const std::vector<float>& img, int width, int x0, int y0, int x
     return s;
 }
 
-std::vector<float> renderImage(const Scene& scene, PixelMethod method, int spp, BdptSettings b, uint64_t seed = 1,
+std::vector<float> renderImage(const Scene& scene, PixelMethod method, int spp, PathSettings b, uint64_t seed = 1,
                                int threads = 2) {
     SampleFilm film(scene.camera);
     RenderSettings rs;
-    rs.bdpt = b;
+    rs.paths = b;
     rs.spp = spp;
     rs.seed = seed;
     rs.threads = threads;
@@ -61,7 +61,7 @@ TEST_CASE("furnace box: every pixel is Le * sum of rho^k for k < maxDepth", "[re
         const auto scene = loadScene(test::furnaceBox(dir, rho, depth));
         double expected = 0;
         for (int k = 0; k < depth; ++k) expected += std::pow(rho, k);
-        BdptSettings b;
+        PathSettings b;
         b.maxDepth = depth;
         for (PixelMethod m : {PixelMethod::Bdpt, PixelMethod::PathTracing}) {
             CAPTURE(int(m));
@@ -82,7 +82,7 @@ TEST_CASE("furnace box: border pixels with wide filters at small scene scale", "
     for (const std::string filter : {"tent", "gaussian"}) {
         CAPTURE(filter);
         const auto scene = loadScene(test::furnaceBox(dir, 0.5, 3, filter, 0.01));
-        BdptSettings b;
+        PathSettings b;
         b.maxDepth = 3;
         const auto img = renderImage(*scene, PixelMethod::Bdpt, 32, b);
         std::vector<float> border;
@@ -106,7 +106,7 @@ TEST_CASE("furnace box: each BDPT strategy alone is unbiased for its path length
             const int edges = s + t - 1;
             if (edges < 1 || edges > depth || (s == 1 && t == 1)) continue;
             CAPTURE(s, t);
-            BdptSettings b;
+            PathSettings b;
             b.maxDepth = depth;
             b.onlyS = s;
             b.onlyT = t;
@@ -131,7 +131,7 @@ TEST_CASE("a convex diffuse sphere under a uniform environment has radiance albe
 </scene>)"));
     for (PixelMethod m : {PixelMethod::Bdpt, PixelMethod::PathTracing}) {
         CAPTURE(int(m));
-        const auto img = renderImage(*scene, m, 16, BdptSettings{});
+        const auto img = renderImage(*scene, m, 16, PathSettings{});
         // The sphere subtends 11.5 degrees around the axis: the central 8 x 8 pixels (+-5 degrees) see
         // only the sphere, the 3 x 3 corners (24-27 degrees off axis) only the sky.
         const PixelStats s = stats(img, 32, 12, 12, 20, 20);
@@ -145,7 +145,7 @@ TEST_CASE("a convex diffuse sphere under a uniform environment has radiance albe
 TEST_CASE("rendering is bit-identical whatever the thread count", "[render]") {
     test::TempDir dir;
     const auto scene = loadScene(test::furnaceBox(dir, 0.5, 4));
-    BdptSettings b;
+    PathSettings b;
     b.maxDepth = 4;
     const auto one = renderImage(*scene, PixelMethod::Bdpt, 4, b, 7, 1);
     const auto two = renderImage(*scene, PixelMethod::Bdpt, 4, b, 7, 2);
@@ -185,7 +185,7 @@ TEST_CASE("a diffuse plane under a point light: L = rho/pi I cos / d^2", "[rende
         }
     for (PixelMethod m : {PixelMethod::Bdpt, PixelMethod::PathTracing}) {
         CAPTURE(int(m));
-        BdptSettings b;
+        PathSettings b;
         b.maxDepth = 2;
         const auto img = renderImage(*scene, m, 8, b);
         // Residuals of independent pixels: their mean is 0 within its standard error.
@@ -205,7 +205,7 @@ TEST_CASE("BDPT and path tracing agree on the public cornell-box", "[render]") {
     const int runs = 6;
     // Mean luminance of each of the 3 x 3 regions of the image, per independent run (seed).
     auto regions = [&](PixelMethod m, uint64_t seed) {
-        BdptSettings b;
+        PathSettings b;
         b.maxDepth = scene->integrator.maxDepth;
         const auto img = renderImage(*scene, m, 8, b, seed);
         std::vector<double> out(9, 0.0);

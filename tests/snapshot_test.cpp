@@ -47,11 +47,11 @@ TEST_CASE("snapshots: increasing times, and the last one equals the final image"
     SampleFilm film(scene->camera);
     RenderSettings rs;
     rs.spp = 4;
-    rs.bdpt.maxDepth = 4;
+    rs.paths.maxDepth = 4;
     rs.snapshots = SnapshotSchedule::parseSamples("1,2,4");
     std::vector<RunProgress> at;
     std::vector<std::vector<std::vector<float>>> images;
-    const RenderStats st = render(*scene, Bdpt(*scene, rs.bdpt), rs, film, {}, nullptr, nullptr,
+    const RenderStats st = render(*scene, Bdpt(*scene, rs.paths), rs, film, {}, nullptr, nullptr,
                                   [&](const RunProgress& p, const file::Buffer& image) {
                                       at.push_back(p);
                                       images.push_back(image.planes);
@@ -92,10 +92,10 @@ TEST_CASE("the error of path tracing falls as 1/samples: log-log slope near -1",
     SampleFilm film(scene->camera);
     RenderSettings rs;
     rs.spp = 256;
-    rs.bdpt.maxDepth = 3;
+    rs.paths.maxDepth = 3;
     rs.snapshots = SnapshotSchedule::parseSamples("4,8,16,32,64,128,256");
     std::vector<double> logN, logE;
-    (void)render(*scene, PathTracer(*scene, rs.bdpt), rs, film, {}, nullptr, nullptr,
+    (void)render(*scene, PathTracer(*scene, rs.paths), rs, film, {}, nullptr, nullptr,
                  [&](const RunProgress& p, const file::Buffer& image) {
                      logN.push_back(std::log(double(p.passesDone)));
                      logE.push_back(std::log(reference.error(image, "render", ErrorOptions{}).value));

@@ -24,7 +24,7 @@
 #include "path/path_obj.h"
 #include "path/path_statistics.h"
 #include "math/constants.h"
-#include "manifold/path_chains.h"
+#include "manifold/chains_in_path.h"
 #include "scene/scene.h"
 #include "scene/scene_features.h"
 

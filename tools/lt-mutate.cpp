@@ -130,14 +130,14 @@ int main(int argc, char** argv) {
         const bool pathSpace = space == "path";
         lt::PrimarySpaceSettings ps;
         ps.space = space == "primary" ? lt::PrimarySpace::Kelemen : lt::PrimarySpace::Multiplexed;
-        ps.bdpt.maxDepth = maxDepth != -2 ? maxDepth : scene->integrator.maxDepth;
-        ps.bdpt.rrDepth = scene->integrator.rrDepth;
-        if (ps.bdpt.maxDepth == 0 || ps.bdpt.maxDepth < -1)
+        ps.paths.maxDepth = maxDepth != -2 ? maxDepth : scene->integrator.maxDepth;
+        ps.paths.rrDepth = scene->integrator.rrDepth;
+        if (ps.paths.maxDepth == 0 || ps.paths.maxDepth < -1)
             throw lt::Error("--max-depth must be -1 (unbounded) or at least 1");
         ps.unboundedEdges = unbounded;
         ps.largeStepProbability = largeStep;
         ps.startupSamples = startupSamples;
-        if (!quiet && !pathSpace && ps.space == lt::PrimarySpace::Multiplexed && ps.bdpt.maxDepth < 0)
+        if (!quiet && !pathSpace && ps.space == lt::PrimarySpace::Multiplexed && ps.paths.maxDepth < 0)
             std::cerr << "lt-mutate: warning: the max depth is unbounded; multiplexed chains cover paths of up to "
                       << unbounded << " edges (--max-length-unbounded)\n";
 
@@ -158,8 +158,8 @@ int main(int argc, char** argv) {
                                  {"time_limit", timeLimit},
                                  {"chains", chains},
                                  {"seed", seed},
-                                 {"max_depth", ps.bdpt.maxDepth},
-                                 {"rr_depth", ps.bdpt.rrDepth},
+                                 {"max_depth", ps.paths.maxDepth},
+                                 {"rr_depth", ps.paths.rrDepth},
                                  {"large_step", largeStep},
                                  {"small_step", {{"s1", ps.smallStep.s1}, {"s2", ps.smallStep.s2}}},
                                  {"startup_samples", startupSamples},
@@ -169,7 +169,7 @@ int main(int argc, char** argv) {
                                  {"filter", scene->camera.film().filter.name()},
                                  {"estimator", "expected-value splatting; image = b / N sum f / f* at each state"}};
         // Path space: the strategies, and the longest path the bidirectional mutation may build.
-        const int maxEdges = ps.bdpt.maxDepth > 0 ? ps.bdpt.maxDepth : unbounded;
+        const int maxEdges = ps.paths.maxDepth > 0 ? ps.paths.maxDepth : unbounded;
         lt::StrategyChoice choice;
         if (pathSpace) {
             params.erase("large_step");
@@ -184,7 +184,7 @@ int main(int argc, char** argv) {
             params["max_length"] = maxEdges;
             for (const auto& why : choice.leftOut)
                 if (!quiet) std::cerr << "lt-mutate: left out: " << why << '\n';
-            if (!quiet && ps.bdpt.maxDepth < 0)
+            if (!quiet && ps.paths.maxDepth < 0)
                 std::cerr << "lt-mutate: warning: the max depth is unbounded; the bidirectional mutation builds paths "
                              "of up to "
                           << unbounded << " edges (--max-length-unbounded)\n";
@@ -215,7 +215,7 @@ int main(int argc, char** argv) {
             if (seeds.paths.empty()) {
                 // No seed file: a BDPT start-up of our own, as lt-seed --paths would make it.
                 progress.update(-1, "seeding with BDPT");
-                seeds = lt::seedWithBdpt(*scene, ps.bdpt, startupSamples, size_t(std::max(4 * chains, 1024)),
+                seeds = lt::seedWithBdpt(*scene, ps.paths, startupSamples, size_t(std::max(4 * chains, 1024)),
                                          seed ^ 0x5eedULL, threads, &lt::tool::stopRequested());
                 if (!quiet)
                     std::cerr << "lt-mutate: seeded with BDPT (" << startupSamples << " samples): b = " << seeds.b.b()
@@ -224,7 +224,7 @@ int main(int argc, char** argv) {
             std::vector<std::unique_ptr<lt::Mutation>> owned;
             std::vector<lt::WeightedMutation> mix;
             lt::makeMutations(choice, *scene, maxEdges, owned, mix);
-            stats = lt::runPathSpaceChains(*scene, seeds, mix, rs, ps.bdpt, refineB, film, onProgress,
+            stats = lt::runPathSpaceChains(*scene, seeds, mix, rs, ps.paths, refineB, film, onProgress,
                                            &lt::tool::stopRequested(), onSnapshot, dump);
             if (dumpWriter) dumpWriter->finish();
         } else {

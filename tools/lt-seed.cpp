@@ -70,10 +70,10 @@ int main(int argc, char** argv) {
         auto scene = lt::tool::loadSceneWithOptions("lt-seed", scenePath, defines, resolution, quiet);
 
         lt::RenderSettings rs;
-        rs.bdpt.maxDepth = maxDepth != -2 ? maxDepth : scene->integrator.maxDepth;
-        rs.bdpt.rrDepth = rrDepth > 0 ? rrDepth : scene->integrator.rrDepth;
-        rs.bdpt.mis = mis == "balance" ? lt::MisHeuristic::Balance : lt::MisHeuristic::Power;
-        if (rs.bdpt.maxDepth == 0 || rs.bdpt.maxDepth < -1)
+        rs.paths.maxDepth = maxDepth != -2 ? maxDepth : scene->integrator.maxDepth;
+        rs.paths.rrDepth = rrDepth > 0 ? rrDepth : scene->integrator.rrDepth;
+        rs.paths.mis = mis == "balance" ? lt::MisHeuristic::Balance : lt::MisHeuristic::Power;
+        if (rs.paths.maxDepth == 0 || rs.paths.maxDepth < -1)
             throw lt::Error("--max-depth must be -1 (unbounded) or at least 1");
         rs.spp = spp > 0 ? spp : (timeLimit > 0 ? 0 : scene->integrator.sampleCount);
         rs.timeLimit = timeLimit;
@@ -90,8 +90,8 @@ int main(int argc, char** argv) {
                                  {"method", method},
                                  {"spp", rs.spp},
                                  {"time_limit", timeLimit},
-                                 {"max_depth", rs.bdpt.maxDepth},
-                                 {"rr_depth", rs.bdpt.rrDepth},
+                                 {"max_depth", rs.paths.maxDepth},
+                                 {"rr_depth", rs.paths.rrDepth},
                                  {"mis", mis},
                                  {"seed", seed},
                                  {"tile", tile},
@@ -118,7 +118,7 @@ int main(int argc, char** argv) {
         lt::SampleFilm film(scene->camera);
         lt::tool::Progress progress("lt-seed", quiet);
         const auto estimator = lt::makePixelEstimator(
-            method == "pt" ? lt::PixelMethod::PathTracing : lt::PixelMethod::Bdpt, *scene, rs.bdpt);
+            method == "pt" ? lt::PixelMethod::PathTracing : lt::PixelMethod::Bdpt, *scene, rs.paths);
         const auto stats = lt::render(
             *scene, *estimator, rs, film, lt::tool::runProgress(progress, double(film.width()) * film.height(), "spp"),
             &lt::tool::stopRequested(), reservoir ? &*reservoir : nullptr, lt::tool::snapshotWriter(writer));

@@ -8,13 +8,6 @@ namespace lt {
 
 namespace {
 
-WorldBsdf worldBsdf(const PathVertex& v) { return {*v.bsdf, v.si.shading, v.si.ng, v.si.uv}; }
-
-// The delta lobe's sample for light-to-eye importance transport at v[i] (wi toward v[i-1]).
-std::optional<BsdfSample> deltaImportance(const std::vector<PathVertex>& v, size_t i) {
-    return worldBsdf(v[i]).deltaEval(v[i].directionTo(v[i - 1]), v[i].directionTo(v[i + 1]), Transport::Importance);
-}
-
 // The same point with the same normal: the shadow ray between two such vertices is the same ray.
 bool sameVertex(const PathVertex& a, const PathVertex& b) {
     return a.type == b.type && a.si.p == b.si.p && a.si.ng == b.si.ng;
@@ -29,6 +22,10 @@ bool hasEdge(const MarkovPath& path, const PathVertex& a, const PathVertex& b) {
 }
 
 } // namespace
+
+std::optional<BsdfSample> deltaImportance(const std::vector<PathVertex>& v, size_t i) {
+    return v[i].worldBsdf().deltaEval(v[i].directionTo(v[i - 1]), v[i].directionTo(v[i + 1]), Transport::Importance);
+}
 
 std::optional<RejectCause> evaluatePath(const Scene& scene, MarkovPath& path, const MarkovPath* verified) {
     auto& v = path.v;
@@ -81,43 +78,13 @@ std::optional<RejectCause> evaluatePath(const Scene& scene, MarkovPath& path, co
 }
 
 MarkovPath pathFromRecord(const Scene& scene, const file::PathRecord& record, size_t index) {
-    const auto fail = [&](const std::string& what) {
-        return Error("seed path " + std::to_string(index) + ": " + what);
-    };
-    const size_t n = record.vertices.size();
-    if (n < 2) throw fail("fewer than two vertices");
+    const std::string name = "seed path " + std::to_string(index);
     MarkovPath path;
-    path.v.resize(n);
-    for (size_t i = 0; i < n; ++i) {
-        const auto& r = record.vertices[i];
-        PathVertex& x = path.v[i];
-        const Vec3 p(r.p[0], r.p[1], r.p[2]);
-        if (i == 0) {
-            if (r.light < 0 || size_t(r.light) >= scene.emitters.size()) throw fail("its first vertex is on no light");
-            if (scene.emitters[size_t(r.light)]->isInfinite())
-                throw fail("starts on an environment emitter, which path-space chains do not handle yet");
-            x = lightVertexAt(scene, size_t(r.light), p, Vec3(r.ng[0], r.ng[1], r.ng[2]), r.prim,
-                              Vec2(r.coords[0], r.coords[1]));
-            if (!x.isOnSurface() && r.shape >= 0) throw fail("its light vertex does not match the scene");
-        } else if (i + 1 == n) {
-            if (r.kind != file::VertexKind::Camera) throw fail("does not end on the camera");
-            x.type = VertexType::Camera;
-            x.si.p = scene.camera.position();
-        } else {
-            if (r.shape < 0 || size_t(r.shape) >= scene.shapes.size()) throw fail("names a shape the scene lacks");
-            SurfaceInteraction si = scene.shapes[size_t(r.shape)].surfaceAt(r.prim, Vec2(r.coords[0], r.coords[1]));
-            si.shape = r.shape;
-            x = surfaceVertex(scene, si);
-            // Delta scattering, except at the connection's two ends of a BDPT technique (joined through
-            // the non-delta lobes): light-to-eye indices s - 1 and s. A chain's state (s = t = 0) says
-            // exactly.
-            const bool technique = record.s + record.t > 0;
-            x.delta = (r.lobe & LobeDelta) && (!technique || (i + 1 != record.s && i != record.s));
-            x.lobe = r.lobe;
-        }
-    }
+    path.v = verticesFromRecord(scene, record, name);
+    if (path.v.front().infinite)
+        throw Error(name + ": starts on an environment emitter, which path-space chains do not handle yet");
     if (const auto why = evaluatePath(scene, path))
-        throw fail(std::string("carries no light in this scene (") + rejectCauseName(*why) + ")");
+        throw Error(name + ": carries no light in this scene (" + rejectCauseName(*why) + ")");
     return path;
 }
 
@@ -155,7 +122,7 @@ double densityFromEye(const Scene& scene, const SensorWindow& sensor, const std:
     if (isSpecular(from)) {
         const auto imp = deltaImportance(v, i + 1);
         const auto rad =
-            worldBsdf(from).deltaEval(from.directionTo(v[i + 2]), from.directionTo(v[i]), Transport::Radiance);
+            from.worldBsdf().deltaEval(from.directionTo(v[i + 2]), from.directionTo(v[i]), Transport::Radiance);
         return imp && rad ? eyeSideDeltaDensity(*imp, *rad, geometryTerm(from, v[i])) : 0.0;
     }
     return from.pdf(scene, &v[i + 2], v[i]);

@@ -70,6 +70,10 @@ struct MarkovPath {
 [[nodiscard]] double densityFromEye(const Scene& scene, const SensorWindow& sensor, const std::vector<PathVertex>& v,
                                     size_t i);
 
+// The delta lobe at specular vertex v[i] for light-to-eye importance transport (from v[i-1] toward
+// v[i+1]): its value and its lobe probability (pdf); nothing when the directions do not fit a lobe.
+[[nodiscard]] std::optional<BsdfSample> deltaImportance(const std::vector<PathVertex>& v, size_t i);
+
 // The stripped density of a vertex sampled from the eye side through a delta lobe, (R_imp / weight_rad) G
 // (header comment): `imp` is the lobe for light-to-eye importance transport (weight x probability = R_imp),
 // `rad` the one sampled in radiance transport (its weight includes 1 / its probability, so the density

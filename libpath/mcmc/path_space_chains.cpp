@@ -145,7 +145,7 @@ double bdptSampleOfB(const Bdpt& bdpt, const SampleFilm& film, uint64_t seed, ui
     return sum * double(window.area());
 }
 
-PathSpaceSeeds seedWithBdpt(const Scene& scene, const BdptSettings& bdpt, uint64_t samples, size_t keep, uint64_t seed,
+PathSpaceSeeds seedWithBdpt(const Scene& scene, const PathSettings& bdpt, uint64_t samples, size_t keep, uint64_t seed,
                             int threads, const std::atomic<bool>* stop) {
     // `samples` BDPT samples at uniformly chosen pixels (not whole passes: on a large image a pass alone
     // would outlast a short run), each with its own keyed stream; candidates and samples of b reach the
@@ -186,7 +186,7 @@ PathSpaceSeeds seedWithBdpt(const Scene& scene, const BdptSettings& bdpt, uint64
 
 ChainRunStats runPathSpaceChains(const Scene& scene, const PathSpaceSeeds& seeds,
                                  const std::vector<WeightedMutation>& mutations, const ChainRunSettings& run,
-                                 const BdptSettings& bdpt, double refineB, SampleFilm& film,
+                                 const PathSettings& bdpt, double refineB, SampleFilm& film,
                                  const RunProgressCallback& progress, const std::atomic<bool>* stop,
                                  const RunSnapshotCallback& snapshot, const PathDump& dump) {
     if (run.chains < 1) throw Error("the number of chains must be at least 1");

@@ -51,7 +51,7 @@ struct PathSpaceSeeds {
 
 // Seed paths from a BDPT run of its own (what lt-seed --paths writes): at least `samples` camera
 // samples (whole passes), `keep` draws.
-[[nodiscard]] PathSpaceSeeds seedWithBdpt(const Scene& scene, const BdptSettings& bdpt, uint64_t samples, size_t keep,
+[[nodiscard]] PathSpaceSeeds seedWithBdpt(const Scene& scene, const PathSettings& bdpt, uint64_t samples, size_t keep,
                                           uint64_t seed, int threads, const std::atomic<bool>* stop);
 
 // Every `every`-th state of each chain (counting its mutations), handed over in chain order after each
@@ -66,7 +66,7 @@ struct PathDump {
 // when no seed path fits the scene. `stats.strategies` gets one row per mutation.
 ChainRunStats runPathSpaceChains(const Scene& scene, const PathSpaceSeeds& seeds,
                                  const std::vector<WeightedMutation>& mutations, const ChainRunSettings& run,
-                                 const BdptSettings& bdpt, double refineB, SampleFilm& film,
+                                 const PathSettings& bdpt, double refineB, SampleFilm& film,
                                  const RunProgressCallback& progress, const std::atomic<bool>* stop,
                                  const RunSnapshotCallback& snapshot = {}, const PathDump& dump = {});
 

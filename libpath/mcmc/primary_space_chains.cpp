@@ -122,7 +122,7 @@ ChainRunStats runPrimarySpaceChains(const Scene& scene, const PrimarySpaceSettin
     if (!(space.largeStepProbability >= 0 && space.largeStepProbability <= 1))
         throw Error("the large-step probability must be in [0, 1]");
     ChainRunner runner(run, film, progress, stop, snapshot);
-    const PrimarySpaceTarget target(scene, space.bdpt, space.unboundedEdges);
+    const PrimarySpaceTarget target(scene, space.paths, space.unboundedEdges);
     const bool multiplexed = space.space == PrimarySpace::Multiplexed;
     ChainRunStats stats;
     stats.strategies = MutationStatistics({"large step", "small step"});

@@ -37,8 +37,8 @@ inline constexpr double LengthFloor = 0.1;
 
 struct PrimarySpaceSettings {
     PrimarySpace space = PrimarySpace::Kelemen;
-    BdptSettings bdpt;
-    int unboundedEdges = 12;           // multiplexed: path-length bound when bdpt.maxDepth is -1
+    PathSettings paths;
+    int unboundedEdges = 12;           // multiplexed: path-length bound when paths.maxDepth is -1
     double largeStepProbability = 0.3; // Mitsuba's default
     SmallStepKernel smallStep;
     uint64_t startupSamples = 100000; // Mitsuba's luminanceSamples; multiplexed: per path length on average

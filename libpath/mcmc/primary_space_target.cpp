@@ -7,7 +7,7 @@ namespace lt {
 
 namespace {
 
-BdptSettings withoutRussianRoulette(BdptSettings s) {
+PathSettings withoutRussianRoulette(PathSettings s) {
     // Multiplexed MLT fixes the subpath lengths in advance: roulette could only end a subpath early and
     // so kill the whole technique (SURVEY 4.2).
     s.rrDepth = INT_MAX;
@@ -16,7 +16,7 @@ BdptSettings withoutRussianRoulette(BdptSettings s) {
 
 } // namespace
 
-PrimarySpaceTarget::PrimarySpaceTarget(const Scene& scene, const BdptSettings& settings, int unboundedEdges)
+PrimarySpaceTarget::PrimarySpaceTarget(const Scene& scene, const PathSettings& settings, int unboundedEdges)
     : scene_(scene), bdpt_(scene, settings), fixedLength_(scene, withoutRussianRoulette(settings)),
       maxEdges_(settings.maxDepth > 0 ? settings.maxDepth : unboundedEdges), sensor_(scene.camera),
       cropPixels_(double(scene.camera.film().cropWidth) * double(scene.camera.film().cropHeight)) {}

@@ -26,7 +26,7 @@ class PrimarySpaceTarget {
 public:
     // The path length of multiplexed chains is bounded: with maxDepth -1 (unbounded) the bound is
     // `unboundedEdges`, and tools say so.
-    PrimarySpaceTarget(const Scene& scene, const BdptSettings& settings, int unboundedEdges = 12);
+    PrimarySpaceTarget(const Scene& scene, const PathSettings& settings, int unboundedEdges = 12);
 
     // Kelemen PSSMLT: the contributions of the full BDPT sample u; returns their target value.
     double evaluateAll(SampleGenerator& u, std::vector<ImageContribution>& out, SampleHealth& health) const;

@@ -1,5 +1,7 @@
 #include "path/path_record.h"
 
+#include "math/error.h"
+
 namespace lt {
 
 file::VertexRecord toVertexRecord(const Scene& scene, const PathVertex& v) {
@@ -60,6 +62,43 @@ file::PathRecord toPathRecord(const Scene& scene, const StrategyPath& path, uint
     rec.rngStream = stream;
     rec.rngOffset = offset;
     return rec;
+}
+
+std::vector<PathVertex> verticesFromRecord(const Scene& scene, const file::PathRecord& record,
+                                           const std::string& name) {
+    const auto fail = [&](const std::string& what) { return Error(name + ": " + what); };
+    const size_t n = record.vertices.size();
+    if (n < 2) throw fail("fewer than two vertices");
+    std::vector<PathVertex> v(n);
+    for (size_t i = 0; i < n; ++i) {
+        const auto& r = record.vertices[i];
+        PathVertex& x = v[i];
+        const Vec3 p(r.p[0], r.p[1], r.p[2]);
+        if (i == 0) {
+            if (r.light < 0 || size_t(r.light) >= scene.emitters.size()) throw fail("its first vertex is on no light");
+            const Emitter& e = *scene.emitters[size_t(r.light)];
+            if (e.shape >= 0 && r.prim >= scene.shapes[size_t(e.shape)].primitiveCount())
+                throw fail("its light vertex names a primitive the emitter's shape lacks");
+            x = lightVertexAt(scene, size_t(r.light), p, Vec3(r.ng[0], r.ng[1], r.ng[2]), r.prim,
+                              Vec2(r.coords[0], r.coords[1]));
+            if (!x.isOnSurface() && r.shape >= 0) throw fail("its light vertex does not match the scene");
+        } else if (i + 1 == n) {
+            if (r.kind != file::VertexKind::Camera) throw fail("does not end on the camera");
+            x.type = VertexType::Camera;
+            x.si.p = scene.camera.position();
+        } else {
+            if (r.shape < 0 || size_t(r.shape) >= scene.shapes.size()) throw fail("names a shape the scene lacks");
+            const Shape& shape = scene.shapes[size_t(r.shape)];
+            if (r.prim >= shape.primitiveCount()) throw fail("names a primitive its shape lacks");
+            SurfaceInteraction si = shape.surfaceAt(r.prim, Vec2(r.coords[0], r.coords[1]));
+            si.shape = r.shape;
+            x = surfaceVertex(scene, si);
+            const bool technique = record.s + record.t > 0;
+            x.delta = (r.lobe & LobeDelta) && (!technique || (i + 1 != record.s && i != record.s));
+            x.lobe = r.lobe;
+        }
+    }
+    return v;
 }
 
 } // namespace lt

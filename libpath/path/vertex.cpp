@@ -26,8 +26,7 @@ Vec3 PathVertex::directionTo(const PathVertex& next) const {
 
 Spectrum PathVertex::f(const PathVertex& next, Transport mode) const {
     if (type != VertexType::Surface || !bsdf) return {};
-    const WorldBsdf wb{*bsdf, si.shading, si.ng, si.uv};
-    return wb.eval(wi, directionTo(next), mode);
+    return worldBsdf().eval(wi, directionTo(next), mode);
 }
 
 double PathVertex::convertDensity(double pdfSolidAngle, const PathVertex& next) const {
@@ -45,8 +44,7 @@ double PathVertex::pdf(const Scene& scene, const PathVertex* prev, const PathVer
         scene.camera.pdfEmission(wn, pdfPos, pdfDir);
     } else {
         if (!bsdf || !prev) return 0;
-        const WorldBsdf wb{*bsdf, si.shading, si.ng, si.uv};
-        pdfDir = wb.pdf(directionTo(*prev), wn);
+        pdfDir = worldBsdf().pdf(directionTo(*prev), wn);
     }
     return convertDensity(pdfDir, next);
 }

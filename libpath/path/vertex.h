@@ -5,6 +5,7 @@
 #pragma once
 
 #include "bsdf/bsdf.h"
+#include "bsdf/shading_correction.h"
 #include "scene/interaction.h"
 #include "scene/scene.h"
 
@@ -38,6 +39,9 @@ struct PathVertex {
 
     // Unit direction from this vertex toward `next` (for an environment vertex: against its travel).
     [[nodiscard]] Vec3 directionTo(const PathVertex& next) const;
+    // The BSDF of a surface vertex in world space, with the shading-normal rules (bsdf/shading_correction.h);
+    // only for vertices with a BSDF.
+    [[nodiscard]] WorldBsdf worldBsdf() const { return {*bsdf, si.shading, si.ng, si.uv}; }
     // The effective BSDF between wi (toward the previous vertex) and the direction toward `next`, for a
     // surface vertex (bsdf/shading_correction.h: multiply by the geometric cosine at this vertex).
     [[nodiscard]] Spectrum f(const PathVertex& next, Transport mode) const;

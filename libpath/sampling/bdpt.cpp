@@ -5,6 +5,7 @@
 
 #include "bsdf/shading_correction.h"
 #include "math/error.h"
+#include "path/scatter.h"
 #include "sampling/mis.h"
 
 namespace lt {
@@ -61,7 +62,7 @@ private:
 
 } // namespace
 
-Bdpt::Bdpt(const Scene& scene, BdptSettings settings) : scene_(scene), settings_(settings) {
+Bdpt::Bdpt(const Scene& scene, PathSettings settings) : scene_(scene), settings_(settings) {
     if (settings_.maxDepth == 0 || settings_.maxDepth < -1)
         throw Error("maxDepth must be -1 (unbounded) or at least 1");
     // A path of maxDepth edges has maxDepth + 1 vertices: the camera subpath may supply all but the light
@@ -76,7 +77,7 @@ void Bdpt::randomWalk(Ray ray, Spectrum beta, double pdfDir, SampleGenerator& sa
     const double startMax = beta.maxValue() > 0 ? beta.maxValue() : 1.0;
     double etaScale = 1;
     for (size_t added = 0; added < maxVertices;) {
-        const auto hit = scene_.intersect(ray);
+        auto hit = traceVertex(scene_, ray);
         PathVertex& prev = path.back();
         if (!hit) {
             // An escaped camera path ends on the environment, if there is one (s = 0 strategies).
@@ -92,7 +93,7 @@ void Bdpt::randomWalk(Ray ray, Spectrum beta, double pdfDir, SampleGenerator& sa
             }
             return;
         }
-        PathVertex v = surfaceVertex(scene_, *hit);
+        PathVertex v = std::move(*hit);
         v.wi = -ray.d;
         v.beta = beta;
         v.pdfFwd = prev.convertDensity(pdfFwd, v);
@@ -101,20 +102,17 @@ void Bdpt::randomWalk(Ray ray, Spectrum beta, double pdfDir, SampleGenerator& sa
         if (added >= maxVertices || !v.bsdf) return;
 
         PathVertex& cur = path.back();
-        const WorldBsdf wb{*cur.bsdf, cur.si.shading, cur.si.ng, cur.si.uv};
         const double uLobe = sampler.next1D();
         const Vec2 u = sampler.next2D();
-        const auto bs = wb.sample(cur.wi, mode, uLobe, u);
-        if (!bs || bs->weight.isBlack()) return;
-        cur.lobe = bs->lobe;
+        const auto bs = sampleScattering(cur, cur.wi, mode, uLobe, u);
+        if (!bs) return;
         double pdfRev;
-        if (bs->lobe & LobeDelta) {
+        if (cur.delta) {
             // A delta lobe cannot be reached by a connection: both densities are 0 (pbrt-v3 16.3.1).
-            cur.delta = true;
             pdfFwd = pdfRev = 0;
         } else {
             pdfFwd = bs->pdf;
-            pdfRev = wb.pdf(bs->wo, cur.wi);
+            pdfRev = cur.worldBsdf().pdf(bs->wo, cur.wi);
         }
         beta *= bs->weight;
         if (mode == Transport::Radiance && (bs->lobe & LobeTransmission)) etaScale *= bs->eta * bs->eta;
@@ -126,7 +124,7 @@ void Bdpt::randomWalk(Ray ray, Spectrum beta, double pdfDir, SampleGenerator& sa
             beta /= q;
         }
         path[path.size() - 2].pdfRev = cur.convertDensity(pdfRev, path[path.size() - 2]);
-        ray = spawnRay(cur.si.endpoint(), bs->wo);
+        ray = rayFrom(cur, bs->wo);
     }
 }
 

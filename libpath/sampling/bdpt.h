@@ -10,33 +10,16 @@
 #include "path/strategy_path.h"
 #include "path/vertex.h"
 #include "sampling/mis.h"
+#include "sampling/path_settings.h"
 #include "sampling/pixel_estimator.h"
 #include "sampling/sample_generator.h"
 
 namespace lt {
 
-struct BdptSettings {
-    int maxDepth = -1;          // Mitsuba's meaning: the most edges a path may have (-1: unbounded)
-    int rrDepth = 5;            // from this many edges on, subpaths continue by Russian roulette
-    MisHeuristic mis = MisHeuristic::Power;
-    // For tests: evaluate only this one strategy, unweighted (each strategy alone is unbiased for the
-    // paths it can sample). -1 = all strategies with MIS.
-    int onlyS = -1, onlyT = -1;
-};
-
-// Russian roulette survival probability from the throughput relative to the path's start (Mitsuba 0.5,
-// pbrt-v4): q = min(0.95, max component of beta times etaScale). etaScale, the product of eta^2 over the
-// refractions so far, undoes the radiance compression of entering a denser medium, so paths inside glass
-// are not killed for it.
-[[nodiscard]] inline double russianRouletteSurvival(const Spectrum& relativeBeta, double etaScale) {
-    const double q = relativeBeta.maxValue() * etaScale;
-    return q < 0.95 ? q : 0.95;   // NaN compares false: a NaN throughput survives and is counted later
-}
-
 class Bdpt final : public PixelEstimator {
 public:
     // Throws lt::Error if maxDepth is 0 or below -1.
-    Bdpt(const Scene& scene, BdptSettings settings);
+    Bdpt(const Scene& scene, PathSettings settings);
 
     // One sample through raster position `raster` (pixels of the full film): returns the estimate for
     // the sample's own pixel and appends light-tracing contributions to `splats`.
@@ -68,7 +51,7 @@ private:
                      int s, int t) const;
 
     const Scene& scene_;
-    BdptSettings settings_;
+    PathSettings settings_;
     size_t maxCameraVertices_, maxLightVertices_;
 };
 

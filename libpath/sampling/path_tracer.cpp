@@ -5,7 +5,7 @@
 
 namespace lt {
 
-PathTracer::PathTracer(const Scene& scene, BdptSettings settings) : scene_(scene), settings_(settings) {
+PathTracer::PathTracer(const Scene& scene, PathSettings settings) : scene_(scene), settings_(settings) {
     if (settings_.maxDepth == 0 || settings_.maxDepth < -1) throw Error("maxDepth must be -1 (unbounded) or at least 1");
 }
 

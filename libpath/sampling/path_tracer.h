@@ -3,14 +3,14 @@
 // the same pixel measurement as Bdpt::sample (camera strategies only, no splats).
 #pragma once
 
-#include "sampling/bdpt.h"
+#include "sampling/path_settings.h"
 #include "sampling/pixel_estimator.h"
 
 namespace lt {
 
 class PathTracer final : public PixelEstimator {
 public:
-    PathTracer(const Scene& scene, BdptSettings settings);
+    PathTracer(const Scene& scene, PathSettings settings);
     // No splats and no joined paths: `splats` and `onPath` are left alone.
     [[nodiscard]] Spectrum sample(const Vec2& raster, SampleGenerator& sampler, std::vector<Splat>& splats,
                                   SampleHealth& health, const StrategyCallback* onPath) const override;
@@ -18,7 +18,7 @@ public:
 
 private:
     const Scene& scene_;
-    BdptSettings settings_;
+    PathSettings settings_;
 };
 
 } // namespace lt

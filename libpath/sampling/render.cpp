@@ -25,7 +25,7 @@ struct WorkItem {
 } // namespace
 
 std::unique_ptr<PixelEstimator> makePixelEstimator(PixelMethod method, const Scene& scene,
-                                                   const BdptSettings& settings) {
+                                                   const PathSettings& settings) {
     if (method == PixelMethod::PathTracing) return std::make_unique<PathTracer>(scene, settings);
     return std::make_unique<Bdpt>(scene, settings);
 }

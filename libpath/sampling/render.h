@@ -22,7 +22,7 @@ namespace lt {
 enum class PixelMethod { Bdpt, PathTracing };
 
 struct RenderSettings {
-    BdptSettings bdpt;    // path length, Russian roulette and MIS of the estimator
+    PathSettings paths;   // path length, Russian roulette and MIS of the estimator
     int spp = 16;         // samples per pixel (with timeLimit: an upper bound, 0 = none)
     double timeLimit = 0; // seconds; 0 = render exactly spp samples per pixel
     int threads = 0;      // 0 = all cores
@@ -38,7 +38,7 @@ struct RenderStats : RunRecord {
 
 // The estimator `method` names, for a scene and the path settings.
 [[nodiscard]] std::unique_ptr<PixelEstimator> makePixelEstimator(PixelMethod method, const Scene& scene,
-                                                                 const BdptSettings& settings);
+                                                                 const PathSettings& settings);
 
 // The resampling weight of a BDPT strategy path as a seed: strategyWeight (path/path_record.h), for
 // camera strategies divided by the sum of the pixel filters at its raster position (film.h

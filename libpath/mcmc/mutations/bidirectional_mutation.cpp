@@ -157,13 +157,11 @@ void BidirectionalMutation::propose(const MarkovPath& x, Pcg32& rng, Proposal& o
             if (!from.bsdf) return fail(RejectCause::ZeroContribution);
             const PathVertex& prev = light[light.size() - 2];
             from.wi = from.directionTo(prev);
-            const WorldBsdf wb{*from.bsdf, from.si.shading, from.si.ng, from.si.uv};
             const double uLobe = rng.nextDouble();
-            const auto bs = wb.sample(from.wi, Transport::Importance, uLobe, Vec2(rng.nextDouble(), rng.nextDouble()));
-            if (!bs || bs->weight.isBlack()) return fail(RejectCause::ZeroContribution);
-            from.delta = (bs->lobe & LobeDelta) != 0;
-            from.lobe = bs->lobe;
-            next = traceVertex(scene_, spawnRay(from.si.endpoint(), bs->wo));
+            const auto bs =
+                sampleScattering(from, from.wi, Transport::Importance, uLobe, Vec2(rng.nextDouble(), rng.nextDouble()));
+            if (!bs) return fail(RejectCause::ZeroContribution);
+            next = traceVertex(scene_, rayFrom(from, bs->wo));
             if (!next) return fail(RejectCause::ZeroContribution);
             pdfArea = from.delta ? bs->pdf * geometryTerm(from, *next) : from.convertDensity(bs->pdf, *next);
         }
@@ -183,17 +181,15 @@ void BidirectionalMutation::propose(const MarkovPath& x, Pcg32& rng, Proposal& o
             if (!from.bsdf) return fail(RejectCause::ZeroContribution);
             const PathVertex& toward = eye[eye.size() - 2];
             const Vec3 wEye = from.directionTo(toward);
-            const WorldBsdf wb{*from.bsdf, from.si.shading, from.si.ng, from.si.uv};
             const double uLobe = rng.nextDouble();
-            const auto bs = wb.sample(wEye, Transport::Radiance, uLobe, Vec2(rng.nextDouble(), rng.nextDouble()));
-            if (!bs || bs->weight.isBlack()) return fail(RejectCause::ZeroContribution);
-            from.delta = (bs->lobe & LobeDelta) != 0;
-            from.lobe = bs->lobe;
-            next = traceVertex(scene_, spawnRay(from.si.endpoint(), bs->wo));
+            const auto bs =
+                sampleScattering(from, wEye, Transport::Radiance, uLobe, Vec2(rng.nextDouble(), rng.nextDouble()));
+            if (!bs) return fail(RejectCause::ZeroContribution);
+            next = traceVertex(scene_, rayFrom(from, bs->wo));
             if (!next) return fail(RejectCause::ZeroContribution);
             if (from.delta) {
                 // The light-to-eye delta differs from the sampled one by R_imp / weight_rad (markov_path.h).
-                const auto imp = wb.deltaEval(bs->wo, wEye, Transport::Importance);
+                const auto imp = from.worldBsdf().deltaEval(bs->wo, wEye, Transport::Importance);
                 if (!imp) return fail(RejectCause::ZeroContribution);
                 pdfArea = eyeSideDeltaDensity(*imp, *bs, geometryTerm(from, *next));
             } else {

@@ -73,10 +73,9 @@ void LensSubpathMutation::propose(const MarkovPath& x, Pcg32& rng, Proposal& out
         const BsdfSample& lobe = u < lobes.reflectionProbability() ? *lobes.reflection : *lobes.transmission;
         at.delta = true;
         at.lobe = lobe.lobe;
-        auto next = traceVertex(scene_, spawnRay(at.si.endpoint(), lobe.wo));
+        auto next = traceVertex(scene_, rayFrom(at, lobe.wo));
         if (!next) return fail(RejectCause::ZeroContribution);
-        const WorldBsdf wb{*at.bsdf, at.si.shading, at.si.ng, at.si.uv};
-        const auto imp = wb.deltaEval(lobe.wo, wEye, Transport::Importance);
+        const auto imp = at.worldBsdf().deltaEval(lobe.wo, wEye, Transport::Importance);
         if (!imp) return fail(RejectCause::ZeroContribution);
         sampled *= eyeSideDeltaDensity(*imp, lobe, geometryTerm(at, *next));
         eye.push_back(std::move(*next));

@@ -9,12 +9,9 @@ namespace lt {
 
 namespace {
 
-WorldBsdf worldBsdf(const PathVertex& v) { return {*v.bsdf, v.si.shading, v.si.ng, v.si.uv}; }
-
 // The probability of the delta lobe specular vertex v[i] scattered through, light to eye.
 double lobeProbability(const std::vector<PathVertex>& v, size_t i) {
-    const auto d =
-        worldBsdf(v[i]).deltaEval(v[i].directionTo(v[i - 1]), v[i].directionTo(v[i + 1]), Transport::Importance);
+    const auto d = deltaImportance(v, i);
     return d ? d->pdf : 0.0;
 }
 
@@ -33,7 +30,7 @@ ReciprocalKernel rasterRadii(const PerspectiveCamera& camera) {
 std::optional<BsdfSample> deltaLobe(const PathVertex& v, const Vec3& wi, Lobes kind, Transport mode) {
     if (v.type != VertexType::Surface || !v.bsdf || !v.bsdf->hasDelta()) return std::nullopt;
     // The lobe's exact direction, then deltaEval as the judge (the one place for delta lobe values).
-    const WorldBsdf wb = worldBsdf(v);
+    const WorldBsdf wb = v.worldBsdf();
     const Vec3 w = wb.shading.toLocal(wi);
     std::optional<Vec3> wo;
     if (kind == LobeReflection) {

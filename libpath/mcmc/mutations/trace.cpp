@@ -2,16 +2,6 @@
 
 namespace lt {
 
-std::optional<PathVertex> traceVertex(const Scene& scene, const Ray& ray) {
-    const auto hit = scene.intersect(ray);
-    if (!hit) return std::nullopt;
-    return surfaceVertex(scene, *hit);
-}
-
-Ray rayFrom(const PathVertex& from, const Vec3& dir) {
-    return from.isOnSurface() ? spawnRay(from.si.endpoint(), dir) : Ray{from.si.p, dir};
-}
-
 std::optional<TracedVertex> traceFromCamera(const Scene& scene, const SensorWindow& sensor, const PathVertex& camera,
                                             Pcg32& rng) {
     const Vec2 raster = sensor.raster(Vec2(rng.nextDouble(), rng.nextDouble()));

@@ -1,49 +1,44 @@
-#include "manifold/path_chains.h"
+#include "manifold/chains_in_path.h"
 
 #include <iomanip>
 
 #include "bsdf/bsdf.h"
 #include "manifold/specular_constraint.h"
+#include "math/error.h"
+#include "path/path_record.h"
 
 namespace lt {
 
 namespace {
 
-Vec3 toVec(const std::array<double, 3>& a) { return {a[0], a[1], a[2]}; }
-
-// A stored vertex on its surface again, or a point (camera, point light) with the chart of the plane
-// facing its neighbour.
-std::optional<ManifoldVertex> rebuild(const Scene& scene, const file::VertexRecord& r, const Vec3& neighbour) {
-    if (r.shape < 0 || size_t(r.shape) >= scene.shapes.size()) {
-        const Vec3 p = toVec(r.p), d = neighbour - p;
+// A vertex in the manifold's chart: on its surface, or a point (camera, point light, a vertex at
+// infinity) with the chart of the plane facing its neighbour.
+std::optional<ManifoldVertex> chartOf(const PathVertex& v, const PathVertex& neighbour) {
+    if (v.type == VertexType::Camera || !v.isOnSurface() || v.si.shape < 0) {
+        const Vec3 d = neighbour.p() - v.p();
         if (!(lengthSquared(d) > 0)) return std::nullopt;
-        return pointVertex(p, normalize(d));
+        return pointVertex(v.p(), normalize(d));
     }
-    const Shape& shape = scene.shapes[size_t(r.shape)];
-    if (r.prim >= shape.primitiveCount()) return std::nullopt;
-    SurfaceInteraction si = shape.surfaceAt(r.prim, {r.coords[0], r.coords[1]});
-    si.shape = r.shape;
-    return manifoldVertex(si);
+    return manifoldVertex(v.si);
 }
 
-bool isDelta(const file::VertexRecord& r) { return r.kind == file::VertexKind::Surface && (r.lobe & LobeDelta); }
+bool isDelta(const PathVertex& v) { return v.type == VertexType::Surface && v.delta; }
 
 } // namespace
 
-std::vector<StoredChain> specularChains(const Scene& scene, const file::PathRecord& path) {
-    std::vector<StoredChain> out;
-    const auto& V = path.vertices;
+std::vector<ChainInPath> specularChains(std::span<const PathVertex> V) {
+    std::vector<ChainInPath> out;
     for (size_t a = 0; a + 2 < V.size(); ++a) {
         if (isDelta(V[a]) || !isDelta(V[a + 1])) continue;
         size_t b = a + 1;
         while (b < V.size() && isDelta(V[b]))
             ++b;
         if (b == V.size()) break; // the path ends in a delta vertex: no non-specular endpoint
-        StoredChain c;
+        ChainInPath c;
         c.first = a;
         c.last = b;
         for (size_t i = a; i <= b; ++i) {
-            const auto v = rebuild(scene, V[i], toVec(V[i == a ? a + 1 : i - 1].p));
+            const auto v = chartOf(V[i], V[i == a ? a + 1 : i - 1]);
             if (!v) {
                 c.chain.clear();
                 break;
@@ -51,8 +46,8 @@ std::vector<StoredChain> specularChains(const Scene& scene, const file::PathReco
             c.chain.push_back(*v);
         }
         for (size_t j = 1; !c.chain.empty() && j + 1 < c.chain.size(); ++j) {
-            const int bsdf = scene.shapes[size_t(c.chain[j].shape)].bsdf;
-            const auto eta = bsdf >= 0 ? scene.bsdfs[size_t(bsdf)].bsdf->eta() : std::nullopt;
+            const Bsdf* bsdf = V[a + j].bsdf;
+            const auto eta = bsdf ? bsdf->eta() : std::nullopt;
             if (!setScattering(c.chain[j], c.chain[j - 1], c.chain[j + 1], eta, true)) c.chain.clear();
         }
         out.push_back(std::move(c));
@@ -61,7 +56,11 @@ std::vector<StoredChain> specularChains(const Scene& scene, const file::PathReco
     return out;
 }
 
-void checkChain(const Scene& scene, StoredChain& c, WalkStatistics& stats, double relativeStep,
+std::vector<ChainInPath> specularChains(const Scene& scene, const file::PathRecord& path, const std::string& name) {
+    return specularChains(verticesFromRecord(scene, path, name));
+}
+
+void checkChain(const Scene& scene, ChainInPath& c, WalkStatistics& stats, double relativeStep,
                 const WalkSettings& settings) {
     if (c.chain.empty()) return;
     c.G = generalizedGeometryTerm(c.chain);
@@ -109,13 +108,21 @@ void printManifoldReport(std::ostream& out, const Scene& scene, std::span<const 
         return w.converged() ? "converged in " + std::to_string(w.iterations)
                              : "failed (" + std::string(walkFailureName(w.failure)) + ")";
     };
+    size_t unfit = 0;
+    std::string firstUnfit;
     for (size_t i = 0; i < paths.size(); ++i) {
-        auto found = specularChains(scene, paths[i]);
+        std::vector<ChainInPath> found;
+        try {
+            found = specularChains(scene, paths[i], "path " + std::to_string(i));
+        } catch (const Error& e) {
+            if (unfit++ == 0) firstUnfit = e.what();
+            continue;
+        }
         if (found.empty()) continue;
         ++withChains;
         const bool show = withChains <= listed;
         if (show) out << "path " << i << " (s=" << paths[i].s << ", t=" << paths[i].t << ")\n";
-        for (StoredChain& c : found) {
+        for (ChainInPath& c : found) {
             ++chains;
             checkChain(scene, c, stats);
             if (!c.chain.empty()) {
@@ -138,6 +145,7 @@ void printManifoldReport(std::ostream& out, const Scene& scene, std::span<const 
         }
     }
     if (withChains > listed) out << "(" << withChains - listed << " more paths with chains not listed)\n";
+    if (unfit > 0) out << unfit << " paths do not fit this scene and were skipped (the first: " << firstUnfit << ")\n";
     out << "paths " << paths.size() << ", with specular chains " << withChains << ", chains " << chains << " (rebuilt "
         << rebuilt << "), walks to themselves converged " << exactConverged << "/" << rebuilt << "\n";
     out << "walks to a nearby point (relative step 1e-3 of the scene diagonal, reverse walk included):\n";

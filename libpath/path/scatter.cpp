@@ -1,0 +1,23 @@
+#include "path/scatter.h"
+
+namespace lt {
+
+std::optional<BsdfSample> sampleScattering(PathVertex& v, const Vec3& wi, Transport mode, double uLobe, const Vec2& u) {
+    auto bs = v.worldBsdf().sample(wi, mode, uLobe, u);
+    if (!bs || bs->weight.isBlack()) return std::nullopt;
+    v.lobe = bs->lobe;
+    v.delta = (bs->lobe & LobeDelta) != 0;
+    return bs;
+}
+
+Ray rayFrom(const PathVertex& from, const Vec3& dir) {
+    return from.isOnSurface() ? spawnRay(from.si.endpoint(), dir) : Ray{from.si.p, dir};
+}
+
+std::optional<PathVertex> traceVertex(const Scene& scene, const Ray& ray) {
+    const auto hit = scene.intersect(ray);
+    if (!hit) return std::nullopt;
+    return surfaceVertex(scene, *hit);
+}
+
+} // namespace lt

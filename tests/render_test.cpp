@@ -8,6 +8,7 @@
 #include "image/film.h"
 #include "math/constants.h"
 #include "math/rng.h"
+#include "reconstruct/gradient_image.h"
 #include "sampling/render.h"
 #include "scene/scene.h"
 #include "test_util.h"
@@ -284,4 +285,52 @@ TEST_CASE("the film merges splat lists in parallel bands exactly as one after an
     }
     CHECK(differ == 0);
     CHECK(nonzero > a.size() / 2);
+}
+
+namespace {
+// A pixel estimator with further planes, as a gradient-domain one will be: the image I(x, y) = x + 2 y
+// (exact in every sample), and its forward differences by the symmetric estimator, each sample at p
+// giving half of dx(p) = I(p + (1,0)) - I(p) and half of dx(p - (1,0)) = I(p) - I(p - (1,0)) (and dy alike).
+class RampEstimator final : public PixelEstimator {
+public:
+    Spectrum estimate(const Vec2&, SampleGenerator&, PixelSample& out) const override {
+        const double x = out.x, y = out.y;
+        out.planes.push_back({0, 0, 0, Spectrum(0.5 * 1)});
+        out.planes.push_back({0, -1, 0, Spectrum(0.5 * 1)});
+        out.planes.push_back({1, 0, 0, Spectrum(0.5 * 2)});
+        out.planes.push_back({1, 0, -1, Spectrum(0.5 * 2)});
+        return Spectrum(x + 2 * y);
+    }
+    bool tracesLightPaths() const override { return false; }
+    std::vector<std::string> planes() const override { return {"dx", "dy"}; }
+};
+} // namespace
+
+TEST_CASE("the render loop fills a pixel estimator's further planes, and the film's buffer reads as a "
+          "gradient-domain input",
+          "[render]") {
+    auto scene = loadScene(test::shippedScene("cornell-box"));
+    scene->camera = scene->camera.withResolution(8, 6);
+    const RampEstimator ramp;
+    RenderSettings rs;
+    rs.spp = 3;
+    rs.tileSize = 4; // a neighbour's values land in another tile
+    SampleFilm plain(scene->camera);
+    CHECK(test::errorOf([&] { (void)render(*scene, ramp, rs, plain, {}, nullptr); }).find("planes") !=
+          std::string::npos);
+
+    SampleFilm film(scene->camera, ramp.planes());
+    (void)render(*scene, ramp, rs, film, {}, nullptr);
+    const file::Buffer b = film.toBuffer();
+    CHECK(b.channels ==
+          std::vector<std::string>{"primal.R", "primal.G", "primal.B", "dx.R", "dx.G", "dx.B", "dy.R", "dy.G", "dy.B"});
+    const GradientImage g = gradientImageFromBuffer(b, "ramp");
+    for (uint32_t y = 0; y < 6; ++y)
+        for (uint32_t x = 0; x < 8; ++x) {
+            const size_t i = y * 8 + x;
+            CHECK(g.primal[1][i] == Approx(x + 2.0 * y));
+            // The last column of dx and last row of dy leave the image: only their own half arrives.
+            CHECK(g.dx[1][i] == Approx(x + 1 < 8 ? 1.0 : 0.5));
+            CHECK(g.dy[1][i] == Approx(y + 1 < 6 ? 2.0 : 1.0));
+        }
 }

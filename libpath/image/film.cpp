@@ -7,11 +7,13 @@
 
 namespace lt {
 
-SampleFilm::SampleFilm(const PerspectiveCamera& camera) : filter_(camera.film().filter) {
+SampleFilm::SampleFilm(const PerspectiveCamera& camera, std::vector<std::string> planes)
+    : filter_(camera.film().filter), planeNames_(std::move(planes)) {
     const auto& f = camera.film();
     window_ = {f.cropX, f.cropY, f.cropX + f.cropWidth, f.cropY + f.cropHeight};
     sum_.assign(window_.area() * 3, 0.0);
     splat_.assign(window_.area() * 3, 0.0);
+    planeSums_.assign(planeNames_.size(), std::vector<double>(window_.area() * 3, 0.0));
     count_.assign(window_.area(), 0);
 }
 
@@ -54,6 +56,14 @@ void SampleFilm::merge(const TileResult& tile) {
         }
     for (const auto& s : tile.splats)
         addSplat(s, window_.y0, window_.y1);
+    for (const auto& v : tile.planeValues) {
+        if (v.plane < 0 || size_t(v.plane) >= planeSums_.size() || v.x < window_.x0 || v.x >= window_.x1 ||
+            v.y < window_.y0 || v.y >= window_.y1)
+            continue; // off the stored window (a neighbour beyond the crop)
+        const size_t dst = size_t(v.y - window_.y0) * size_t(width()) + size_t(v.x - window_.x0);
+        for (int c = 0; c < 3; ++c)
+            planeSums_[size_t(v.plane)][3 * dst + size_t(c)] += v.value[c];
+    }
     lightPaths_ += tile.lightPaths;
 }
 
@@ -104,12 +114,22 @@ file::Buffer SampleFilm::toBuffer(double splatScale) const {
     file::Buffer b;
     b.width = uint32_t(width());
     b.height = uint32_t(height());
-    b.channels = {"R", "G", "B"};
     const std::vector<float> rgb = develop(splatScale);
+    const char* const rgbNames[] = {"R", "G", "B"};
+    for (const char* c : rgbNames)
+        b.channels.push_back(planeNames_.empty() ? std::string(c) : std::string("primal.") + c);
     b.planes.assign(3, std::vector<float>(window_.area()));
     for (size_t i = 0; i < window_.area(); ++i)
         for (size_t c = 0; c < 3; ++c)
             b.planes[c][i] = rgb[3 * i + c];
+    for (size_t p = 0; p < planeNames_.size(); ++p)
+        for (size_t c = 0; c < 3; ++c) {
+            b.channels.push_back(planeNames_[p] + "." + rgbNames[c]);
+            std::vector<float> plane(window_.area());
+            for (size_t i = 0; i < window_.area(); ++i)
+                plane[i] = count_[i] > 0 ? float(planeSums_[p][3 * i + c] / count_[i]) : 0.0f;
+            b.planes.push_back(std::move(plane));
+        }
     b.sampleCounts = count_;
     // Buffers of independent runs average by their work: camera samples, or for a splat-only film (the
     // Markov chains) the number of mutations.

@@ -5,10 +5,14 @@
 //   is a sum over light paths, so it is divided by the number of light paths per pixel.
 // Only the crop window is stored. Work is merged tile by tile in a fixed order, so the result does not
 // depend on the number of threads.
+// Besides the primal image a film may hold further named RGB planes (a gradient-domain estimator's "dx",
+// "dy", "direct": formats/SPEC.md): each pixel's value is the sum of what camera samples gave it,
+// divided by the pixel's own camera samples.
 #pragma once
 
 #include <climits>
 #include <cstdint>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -34,16 +38,24 @@ struct TileResult {
     std::vector<uint32_t> count; // camera samples per pixel of rect
     std::vector<Splat> splats; // anywhere on the film
     uint64_t lightPaths = 0;   // light subpaths traced (one per camera sample for BDPT)
+    // Values of the further planes, at pixels (full-film coordinates) that may lie outside rect.
+    struct PlanePixel {
+        int plane = 0, x = 0, y = 0;
+        Spectrum value;
+    };
+    std::vector<PlanePixel> planeValues;
 };
 
 class SampleFilm {
 public:
-    explicit SampleFilm(const PerspectiveCamera& camera);
+    // `planes`: the names of the planes besides the primal image (none: an RGB film).
+    explicit SampleFilm(const PerspectiveCamera& camera, std::vector<std::string> planes = {});
 
     [[nodiscard]] const PixelRect& window() const { return window_; }
     [[nodiscard]] int width() const { return window_.width(); }
     [[nodiscard]] int height() const { return window_.height(); }
     [[nodiscard]] const FilterDensity& filter() const { return filter_; }
+    [[nodiscard]] const std::vector<std::string>& planes() const { return planeNames_; }
 
     // A camera sample's raster position for pixel (x, y) (full-film coordinates).
     [[nodiscard]] Vec2 sampleRaster(int x, int y, const Vec2& u) const {
@@ -70,8 +82,9 @@ public:
     [[nodiscard]] const std::vector<uint32_t>& sampleCounts() const { return count_; }
     [[nodiscard]] uint64_t lightPaths() const { return lightPaths_; }
     [[nodiscard]] uint64_t cameraSamples() const { return cameraSamples_; }
-    // The developed image as a file buffer: channels R, G, B, per-pixel sample counts, and the number of
-    // camera samples as its merge weight (buffers of independent runs average by it).
+    // The developed image as a file buffer: channels R, G, B (with further planes: "primal.R" ... and
+    // "NAME.R/G/B" for each plane), per-pixel sample counts, and the number of camera samples as its merge
+    // weight (buffers of independent runs average by it).
     [[nodiscard]] file::Buffer toBuffer(double splatScale = 1) const;
 
 private:
@@ -87,6 +100,8 @@ private:
     PixelRect window_;
     FilterDensity filter_;
     std::vector<double> sum_, splat_;
+    std::vector<std::string> planeNames_;
+    std::vector<std::vector<double>> planeSums_; // per plane, 3 per stored pixel
     std::vector<uint32_t> count_;
     uint64_t lightPaths_ = 0, cameraSamples_ = 0;
 };

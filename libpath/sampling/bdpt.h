@@ -24,7 +24,11 @@ public:
     // One sample through raster position `raster` (pixels of the full film): returns the estimate for
     // the sample's own pixel and appends light-tracing contributions to `splats`.
     [[nodiscard]] Spectrum sample(const Vec2& raster, SampleGenerator& sampler, std::vector<Splat>& splats,
-                                  SampleHealth& health, const StrategyCallback* onPath) const override;
+                                  SampleHealth& health, const StrategyCallback* onPath) const;
+    // As a pixel estimator: sample().
+    [[nodiscard]] Spectrum estimate(const Vec2& raster, SampleGenerator& sampler, PixelSample& out) const override {
+        return sample(raster, sampler, out.splats, out.health, out.onPath);
+    }
     [[nodiscard]] bool tracesLightPaths() const override { return true; }
 
     // The subpath generators, exposed for tests and for the Markov chains that reuse them. `maxVertices`

@@ -9,8 +9,7 @@ PathTracer::PathTracer(const Scene& scene, PathSettings settings) : scene_(scene
     if (settings_.maxDepth == 0 || settings_.maxDepth < -1) throw Error("maxDepth must be -1 (unbounded) or at least 1");
 }
 
-Spectrum PathTracer::sample(const Vec2& raster, SampleGenerator& sampler, std::vector<Splat>& /*splats*/,
-                            SampleHealth& health, const StrategyCallback* /*onPath*/) const {
+Spectrum PathTracer::sample(const Vec2& raster, SampleGenerator& sampler, SampleHealth& health) const {
     sampler.startStream(SampleGenerator::CameraStream);
     Ray ray = scene_.camera.generateRay(raster);
     Spectrum L, beta(1.0);

@@ -11,9 +11,11 @@ namespace lt {
 class PathTracer final : public PixelEstimator {
 public:
     PathTracer(const Scene& scene, PathSettings settings);
-    // No splats and no joined paths: `splats` and `onPath` are left alone.
-    [[nodiscard]] Spectrum sample(const Vec2& raster, SampleGenerator& sampler, std::vector<Splat>& splats,
-                                  SampleHealth& health, const StrategyCallback* onPath) const override;
+    [[nodiscard]] Spectrum sample(const Vec2& raster, SampleGenerator& sampler, SampleHealth& health) const;
+    // As a pixel estimator: sample(); no splats, no further planes, no joined paths.
+    [[nodiscard]] Spectrum estimate(const Vec2& raster, SampleGenerator& sampler, PixelSample& out) const override {
+        return sample(raster, sampler, out.health);
+    }
     [[nodiscard]] bool tracesLightPaths() const override { return false; }
 
 private:

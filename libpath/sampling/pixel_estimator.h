@@ -1,10 +1,12 @@
 // The contract of a pixel estimator: what the render loop (sampling/render.h) asks of BDPT, the path
-// tracer, and any estimator after them. One camera sample through a raster position returns the estimate
-// for the sample's own pixel and may add contributions elsewhere on the film (splats); the loop owns
-// the tiles, passes, random streams, merging, snapshots and the clock, so an estimator is only the
-// per-sample work (as pbrt-v4's EvaluatePixelSample and Tungsten's traceSample).
+// tracer, and the gradient-domain estimators after them. One camera sample through a raster position
+// returns the estimate for its own pixel's primal image, and may add splats anywhere on the film and
+// values for further named planes of the film (gradients, direct light, ...) at its own pixel or its
+// neighbours. The loop owns the tiles, passes, random streams, merging, snapshots and the clock, so an
+// estimator is only the per-sample work (as pbrt-v4's EvaluatePixelSample and Tungsten's traceSample).
 #pragma once
 
+#include <string>
 #include <vector>
 
 #include "math/spectrum.h"
@@ -16,20 +18,39 @@
 
 namespace lt {
 
+// A value for plane `plane` (an index into PixelEstimator::planes()) of the pixel (dx, dy) away from
+// the sample's own. The film averages each plane over the camera samples of the pixel it lands on.
+struct PlaneValue {
+    int plane = 0;
+    int dx = 0, dy = 0;
+    Spectrum value;
+};
+
+// One camera sample: the pixel its primal value is credited to (its raster position is drawn from the
+// pixel filter around it, and may lie in a neighbour), and where it puts what it found besides that
+// value.
+struct PixelSample {
+    int x = 0, y = 0;                         // the pixel, full-film coordinates
+    std::vector<Splat>& splats;               // anywhere on the film (divided by the light paths traced)
+    std::vector<PlaneValue>& planes;          // the estimator's further planes
+    SampleHealth& health;                     // non-finite results, counted and dropped
+    const StrategyCallback* onPath = nullptr; // sees every joined path (seed paths of the Markov chains)
+};
+
 class PixelEstimator {
 public:
     virtual ~PixelEstimator() = default;
 
-    // One sample through `raster` (pixels of the full film), with random numbers from `sampler`: the
-    // estimate for the sample's pixel; splats appended to `splats`; non-finite results counted in
-    // `health` and dropped. `onPath`, when given, sees every joined path the estimator forms (the seed
-    // paths of the Markov chains); estimators that form none ignore it.
-    [[nodiscard]] virtual Spectrum sample(const Vec2& raster, SampleGenerator& sampler, std::vector<Splat>& splats,
-                                          SampleHealth& health, const StrategyCallback* onPath) const = 0;
+    // One sample through `raster` (pixels of the full film), with random numbers from `sampler`.
+    [[nodiscard]] virtual Spectrum estimate(const Vec2& raster, SampleGenerator& sampler, PixelSample& out) const = 0;
 
     // Whether each sample traces one light subpath whose splats the film divides by the number of such
     // subpaths (light tracing in BDPT); false for estimators without splats.
     [[nodiscard]] virtual bool tracesLightPaths() const = 0;
+
+    // The film's planes besides the primal image, by name as formats/SPEC.md spells them ("dx", "dy",
+    // "direct"); none for BDPT and the path tracer.
+    [[nodiscard]] virtual std::vector<std::string> planes() const { return {}; }
 };
 
 } // namespace lt

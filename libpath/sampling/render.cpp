@@ -49,6 +49,8 @@ RenderStats render(const Scene& scene, const PixelEstimator& estimator, const Re
                    SeedReservoir* seeds, const RunSnapshotCallback& snapshot) {
     if (settings.spp < 0 || (settings.spp == 0 && !(settings.timeLimit > 0)))
         throw Error("give a positive sample count or a time limit");
+    if (film.planes() != estimator.planes())
+        throw Error("the film's planes are not the estimator's (make the film with estimator.planes())");
     const PixelRect window = film.window();
     const int ts = std::max(1, settings.tileSize);
     const int tilesX = (window.width() + ts - 1) / ts, tilesY = (window.height() + ts - 1) / ts;
@@ -103,6 +105,7 @@ RenderStats render(const Scene& scene, const PixelEstimator& estimator, const Re
                         r.sum.assign(r.rect.area() * 3, 0.0);
                         r.count.assign(r.rect.area(), 0);
                         std::vector<Splat> splats;
+                        std::vector<PlaneValue> planeValues;
                         uint64_t pixel = 0;
                         const StrategyCallback collect = [&](const StrategyPath& sp) {
                             item->candidates.push_back(seedCandidate(scene, film, sp, pixel, uint64_t(item->pass)));
@@ -116,9 +119,12 @@ RenderStats render(const Scene& scene, const PixelEstimator& estimator, const Re
                                     mixBits(mixBits(settings.seed ^ mixBits(uint64_t(item->pass))) + pixel), pixel);
                                 const Vec2 raster = film.sampleRaster(x, y, sampler.next2D());
                                 splats.clear();
-                                const Spectrum L =
-                                    estimator.sample(raster, sampler, splats, item->health, seeds ? &collect : nullptr);
+                                planeValues.clear();
+                                PixelSample out{x, y, splats, planeValues, item->health, seeds ? &collect : nullptr};
+                                const Spectrum L = estimator.estimate(raster, sampler, out);
                                 r.splats.insert(r.splats.end(), splats.begin(), splats.end());
+                                for (const auto& v : planeValues)
+                                    r.planeValues.push_back({v.plane, x + v.dx, y + v.dy, v.value});
                                 if (estimator.tracesLightPaths()) ++r.lightPaths;
                                 const size_t i = size_t(y - r.rect.y0) * size_t(r.rect.width()) + size_t(x - r.rect.x0);
                                 for (int c = 0; c < 3; ++c)

@@ -48,10 +48,10 @@ struct RenderStats : RunRecord {
 [[nodiscard]] file::PathRecord seedCandidate(const Scene& scene, const SampleFilm& film, const StrategyPath& path,
                                              uint64_t stream, uint64_t offset);
 
-// Renders `estimator` into `film`. With `seeds`, every joined path the
-// estimator forms becomes a candidate seed path (path/path_record.h) offered to the reservoir in
-// work-item order, so the kept draws, too, do not depend on the thread count. `snapshot` is called at
-// pass boundaries when settings.snapshots says so.
+// Renders `estimator` into `film`, which must have been made with the estimator's planes(). With `seeds`, every joined
+// path the estimator forms becomes a candidate seed path (path/path_record.h) offered to the reservoir in work-item
+// order, so the kept draws, too, do not depend on the thread count. `snapshot` is called at pass boundaries when
+// settings.snapshots says so.
 RenderStats render(const Scene& scene, const PixelEstimator& estimator, const RenderSettings& settings,
                    SampleFilm& film, const RunProgressCallback& progress, const std::atomic<bool>* stop,
                    SeedReservoir* seeds = nullptr, const RunSnapshotCallback& snapshot = {});

@@ -93,15 +93,13 @@ void Bdpt::randomWalk(Ray ray, Spectrum beta, double pdfDir, SampleGenerator& sa
             }
             return;
         }
-        PathVertex v = std::move(*hit);
-        v.wi = -ray.d;
-        v.beta = beta;
-        v.pdfFwd = prev.convertDensity(pdfFwd, v);
-        path.push_back(v);
+        hit->wi = -ray.d;
+        hit->beta = beta;
+        hit->pdfFwd = prev.convertDensity(pdfFwd, *hit);
+        path.push_back(std::move(*hit)); // `prev` may dangle from here on
         ++added;
-        if (added >= maxVertices || !v.bsdf) return;
-
         PathVertex& cur = path.back();
+        if (added >= maxVertices || !cur.bsdf) return;
         const double uLobe = sampler.next1D();
         const Vec2 u = sampler.next2D();
         const auto bs = sampleScattering(cur, cur.wi, mode, uLobe, u);

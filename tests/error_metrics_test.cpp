@@ -148,6 +148,19 @@ TEST_CASE("error metrics reject bad inputs with one clear message", "[error]") {
     CHECK(test::errorOf([&] { (void)ref.error(noG, "img.lts", {}); }) ==
           "img.lts: no channel G (the error is measured on channels R, G, B; it has R, X, B)");
 
+    // A film with further planes names its image primal.R/G/B: measured as R, G, B.
+    file::Buffer planes = kRef22;
+    planes.channels = {"primal.R", "primal.G", "primal.B"};
+    planes.planes[1][0] += 1;
+    planes.channels.push_back("dx.R");
+    planes.planes.push_back(std::vector<float>(4, 100.0f));
+    file::Buffer same = kRef22;
+    same.planes[1][0] += 1;
+    CHECK(ref.error(planes, "grad.lts", {}).value == ref.error(same, "img.lts", {}).value);
+    CHECK(ref.error(planes, "grad.lts", {}).value > 0);
+    planes.channels[1] = "primal.X";
+    CHECK(test::errorOf([&] { (void)ref.error(planes, "grad.lts", {}); }).find("grad.lts: no channel primal.G") == 0);
+
     // The first bad pixel in row-major order is named: the Inf at (1, 0) before the NaN at (1, 1).
     file::Buffer bad = kRef22;
     bad.planes[2][3] = std::numeric_limits<float>::quiet_NaN(); // B at (1, 1)

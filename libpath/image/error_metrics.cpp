@@ -30,19 +30,24 @@ std::string sizeText(uint32_t w, uint32_t h) { return std::to_string(w) + "x" + 
 // The planes of the channels named R, G, B (the beauty image every renderer writes).
 std::array<const std::vector<float>*, 3> rgbPlanes(const file::Buffer& b, const std::string& name) {
     std::array<const std::vector<float>*, 3> planes{};
+    // R, G, B; a film with further planes (a gradient-domain render, formats/SPEC.md) names its image
+    // primal.R, primal.G, primal.B.
+    const bool primal = std::find(b.channels.begin(), b.channels.end(), "R") == b.channels.end() &&
+                        std::find(b.channels.begin(), b.channels.end(), "primal.R") != b.channels.end();
     const char* names[3] = {"R", "G", "B"};
     for (size_t c = 0; c < 3; ++c) {
-        const auto it = std::find(b.channels.begin(), b.channels.end(), names[c]);
+        const std::string channel = (primal ? "primal." : "") + std::string(names[c]);
+        const auto it = std::find(b.channels.begin(), b.channels.end(), channel);
         if (it == b.channels.end()) {
             std::string has;
             for (const auto& n : b.channels)
                 has += (has.empty() ? "" : ", ") + n;
-            throw Error(name + ": no channel " + names[c] + " (the error is measured on channels R, G, B; it has " +
+            throw Error(name + ": no channel " + channel + " (the error is measured on channels R, G, B; it has " +
                         (has.empty() ? "none" : has) + ")");
         }
         planes[c] = &b.planes[size_t(it - b.channels.begin())];
         if (planes[c]->size() != size_t(b.width) * b.height)
-            throw Error(name + ": channel " + names[c] + " holds " + std::to_string(planes[c]->size()) +
+            throw Error(name + ": channel " + channel + " holds " + std::to_string(planes[c]->size()) +
                         " values for a " + sizeText(b.width, b.height) + " image");
     }
     return planes;

@@ -15,9 +15,11 @@ Ray rayFrom(const PathVertex& from, const Vec3& dir) {
 }
 
 std::optional<PathVertex> traceVertex(const Scene& scene, const Ray& ray) {
-    const auto hit = scene.intersect(ray);
+    const auto hit = scene.intersectHit(ray);
     if (!hit) return std::nullopt;
-    return surfaceVertex(scene, *hit);
+    std::optional<PathVertex> v(std::in_place);
+    setSurfaceVertex(scene, scene.interactionAt(*hit), *v);
+    return v;
 }
 
 } // namespace lt

@@ -112,12 +112,16 @@ bool visible(const Scene& scene, const PathVertex& a, const PathVertex& b) {
 
 PathVertex surfaceVertex(const Scene& scene, const SurfaceInteraction& si) {
     PathVertex v;
-    v.type = VertexType::Surface;
-    v.si = si;
-    v.bsdf = scene.bsdfOf(si);
-    v.emitterIndex = scene.shapes[size_t(si.shape)].emitter;
-    if (v.emitterIndex >= 0) v.emitter = scene.emitters[size_t(v.emitterIndex)].get();
+    setSurfaceVertex(scene, SurfaceInteraction(si), v);
     return v;
+}
+
+void setSurfaceVertex(const Scene& scene, SurfaceInteraction&& si, PathVertex& v) {
+    v.type = VertexType::Surface;
+    v.si = std::move(si);
+    v.bsdf = scene.bsdfOf(v.si);
+    v.emitterIndex = scene.shapes[size_t(v.si.shape)].emitter;
+    if (v.emitterIndex >= 0) v.emitter = scene.emitters[size_t(v.emitterIndex)].get();
 }
 
 PathVertex lightVertexAt(const Scene& scene, size_t index, const Vec3& p, const Vec3& nOrTravel, uint32_t prim,

@@ -76,6 +76,8 @@ struct PathVertex {
 // The vertex a ray hit: its surface, BSDF and, when the surface emits, its emitter. Path construction
 // (BDPT's random walks, the Markov chains' mutations) and re-created paths all build vertices here.
 [[nodiscard]] PathVertex surfaceVertex(const Scene& scene, const SurfaceInteraction& si);
+// The same, filling `v` in place (no copy of the interaction): the hot loops' form.
+void setSurfaceVertex(const Scene& scene, SurfaceInteraction&& si, PathVertex& v);
 
 // A light vertex at a point emitter `index` produced: on an area emitter the full surface geometry at
 // (prim, coords); otherwise the point p with normal n (zero for point-like emitters), or, for an

@@ -5,9 +5,13 @@ namespace lt {
 std::optional<SurfaceInteraction> Scene::intersect(const Ray& ray) const {
     const auto hit = accel_.intersect(ray);
     if (!hit) return std::nullopt;
-    SurfaceInteraction si = shapes[size_t(hit->shape)].surfaceAt(hit->prim, hit->coords);
-    si.shape = hit->shape;
-    si.t = hit->t;
+    return interactionAt(*hit);
+}
+
+SurfaceInteraction Scene::interactionAt(const RayHit& hit) const {
+    SurfaceInteraction si = shapes[size_t(hit.shape)].surfaceAt(hit.prim, hit.coords);
+    si.shape = hit.shape;
+    si.t = hit.t;
     return si;
 }
 

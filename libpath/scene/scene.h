@@ -57,6 +57,8 @@ public:
     std::vector<int> environmentEmitters;
 
     [[nodiscard]] std::optional<SurfaceInteraction> intersect(const Ray& ray) const;
+    // The surface interaction of a hit intersectHit found (shape index and distance included).
+    [[nodiscard]] SurfaceInteraction interactionAt(const RayHit& hit) const;
     // The hit alone (shape, primitive, coordinates, distance), without the differential geometry.
     [[nodiscard]] std::optional<RayHit> intersectHit(const Ray& ray) const { return accel_.intersect(ray); }
     [[nodiscard]] bool occluded(const Ray& ray) const { return accel_.occluded(ray); }

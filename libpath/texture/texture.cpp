@@ -6,12 +6,10 @@
 // the image file, i.e. its top. The familiar "origin at the bottom-left" of OBJ files comes from the OBJ
 // loader flipping v (Mitsuba's obj `flipTexCoords`, default true; our obj_loader.cpp does the same),
 // not from the texture; PLY and serialized uvs are used as stored.
-#include <OpenImageIO/imageio.h>
-#include <OpenImageIO/strutil.h>
-
 #include <cmath>
 
 #include "math/error.h"
+#include "texture/image_file.h"
 #include "texture/texture.h"
 
 namespace lt {
@@ -32,14 +30,6 @@ namespace {
 // IEC 61966-2-1 (sRGB) decoding, as Mitsuba's Bitmap uses for gamma = -1.
 float srgbToLinear(float v) { return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f); }
 
-std::string oneLine(std::string message) {
-    while (!message.empty() && (message.back() == '\n' || message.back() == '\r'))
-        message.pop_back();
-    for (char& c : message)
-        if (c == '\n' || c == '\r') c = ' ';
-    return message;
-}
-
 } // namespace
 
 BitmapTexture::BitmapTexture(const std::string& filename, double gamma, const Vec2& offset, const Vec2& scale)
@@ -51,27 +41,15 @@ BitmapTexture::BitmapTexture(const std::string& filename, double gamma, const Ve
                     " is not supported (use -1 for sRGB, 0 for "
                     "automatic or a positive exponent)");
 
-    // Keep colors as stored: OIIO would otherwise premultiply them by alpha, while Mitsuba drops alpha
-    // and uses the stored colors unchanged.
-    OIIO::ImageSpec config;
-    config.attribute("oiio:UnassociatedAlpha", 1);
-    auto in = OIIO::ImageInput::open(filename, &config);
-    if (!in) throw Error(filename + ": cannot read image (" + oneLine(OIIO::geterror()) + ")");
-    const OIIO::ImageSpec& spec = in->spec();
-    width_ = spec.width;
-    height_ = spec.height;
-    const int channels = spec.nchannels;
-    if (width_ <= 0 || height_ <= 0 || channels <= 0) throw Error(filename + ": cannot read image (empty image)");
-    std::vector<float> pixels(size_t(width_) * size_t(height_) * size_t(channels));
-    if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, pixels.data()))
-        throw Error(filename + ": cannot read image (" + oneLine(in->geterror()) + ")");
-    in->close();
+    const ImageFile image = readImageFile(filename);
+    width_ = image.width;
+    height_ = image.height;
+    const int channels = image.channels;
+    const std::vector<float>& pixels = image.pixels;
 
     // Automatic detection, as Mitsuba's Bitmap does: integer formats (PNG, JPEG, 8- and 16-bit TIFF ...)
     // hold sRGB-encoded values unless the file says it is linear; float formats (EXR, HDR, PFM) are linear.
-    const bool floatFormat = spec.format.is_floating_point();
-    const bool fileSaysLinear = OIIO::Strutil::iequals(spec.get_string_attribute("oiio:ColorSpace"), "Linear");
-    const bool useSrgb = gamma == -1 || (gamma == 0 && !floatFormat && !fileSaysLinear);
+    const bool useSrgb = gamma == -1 || (gamma == 0 && !image.floatFormat && !image.saysLinear);
     const bool usePower = gamma > 0 && gamma != 1;
     auto decode = [&](float v) {
         if (useSrgb) return srgbToLinear(v);

@@ -13,20 +13,16 @@
 #include <limits>
 #include <vector>
 
-#include <OpenImageIO/imageio.h>
-
 #include "math/constants.h"
 #include "math/error.h"
 #include "math/rigid.h"
 #include "scene/emitter.h"
 #include "scene/emitters/scene_disk.h"
+#include "texture/image_file.h"
 
 namespace lt {
 
 namespace {
-
-// The first line of an OpenImageIO message: the project's errors are one line.
-std::string firstLine(const std::string& s) { return s.substr(0, s.find('\n')); }
 
 class EnvmapEmitter final : public Emitter {
 public:
@@ -104,16 +100,11 @@ public:
 private:
     void load(const std::string& filename) {
         if (!std::filesystem::exists(filename)) throw Error(filename + ": file not found");
-        auto in = OIIO::ImageInput::open(filename);
-        if (!in) throw Error(filename + ": cannot read image: " + firstLine(OIIO::geterror()));
-        const OIIO::ImageSpec& spec = in->spec();
-        width_ = spec.width;
-        height_ = spec.height;
-        const int channels = spec.nchannels;
-        if (width_ <= 0 || height_ <= 0 || channels <= 0) throw Error(filename + ": image has no pixels");
-        std::vector<float> data(size_t(width_) * size_t(height_) * size_t(channels));
-        if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, data.data()))
-            throw Error(filename + ": cannot read image: " + firstLine(in->geterror()));
+        const ImageFile image = readImageFile(filename);
+        width_ = image.width;
+        height_ = image.height;
+        const int channels = image.channels;
+        const std::vector<float>& data = image.pixels;
         // RGB from the first three channels; a gray image fills all three.
         pixels_.resize(size_t(width_) * size_t(height_));
         for (int y = 0; y < height_; ++y)

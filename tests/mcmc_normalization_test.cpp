@@ -67,6 +67,9 @@ TEST_CASE("a seed file's b needs its sample count, and says which file lacks it"
     CHECK(errorOf([&] {
               (void)seedsFromFile(content({"b", "samples"}, {std::numeric_limits<double>::quiet_NaN(), 10}, "nan.ltp"));
           }).find("nan.ltp: no normalization b") == 0);
+    CHECK(errorOf([&] {
+              (void)seedsFromFile(content({"b", "samples"}, {7.5, 1e300}, "huge.ltp"));
+          }).find("huge.ltp: the seed run's sample count") == 0);
 }
 
 TEST_CASE("a seed file reads back with its paths, b and sample count", "[mcmc]") {

@@ -39,6 +39,8 @@ SeedFile readSeedFile(file::Content&& content) {
         throw Error(content.name + ": no normalization b (STAT \"normalization\"); was it written by lt-seed --paths?");
     if (!(samples >= 1) || !std::isfinite(samples))
         throw Error(content.name + ": no sample count of the seed run (STAT \"normalization\" row \"samples\")");
+    if (!(samples < 9.2e18)) // beyond uint64_t: a damaged file, not a run
+        throw Error(content.name + ": the seed run's sample count " + std::to_string(samples) + " is out of range");
     return {std::move(content.paths), b, uint64_t(samples)};
 }
 

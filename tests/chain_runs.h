@@ -13,7 +13,7 @@
 
 #include "mcmc/path_space_chains.h"
 #include "mcmc/primary_space_chains.h"
-#include "mcmc/strategy_selection.h"
+#include "mcmc/mutation_selection.h"
 #include "sampling/render.h"
 
 namespace lt::test {
@@ -67,7 +67,7 @@ inline std::vector<float> runPathMix(const Scene& scene, const std::string& stra
     const auto seeds = seedWithBdpt(scene, b, seedSamples, 1024, seed * 7919 + 1, threads, nullptr);
     std::vector<std::unique_ptr<Mutation>> owned;
     std::vector<WeightedMutation> mix;
-    makeMutations(chooseStrategies(strategies, analyzeScene(scene)), scene, maxDepth, owned, mix);
+    makeMutations(chooseMutations(strategies, analyzeScene(scene)), scene, maxDepth, owned, mix);
     ChainRunSettings rs;
     rs.mutations = mutations;
     rs.chains = 32;

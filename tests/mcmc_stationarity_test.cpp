@@ -15,7 +15,7 @@
 
 #include "mcmc/image_contribution.h"
 #include "mcmc/path_space_chains.h"
-#include "mcmc/strategy_selection.h"
+#include "mcmc/mutation_selection.h"
 #include "test_util.h"
 
 using namespace lt;
@@ -207,7 +207,7 @@ TEST_CASE("path-space chains visit a tiny path space in proportion to f*", "[mcm
     for (const auto& spec : mixes) {
         std::vector<std::unique_ptr<Mutation>> owned;
         std::vector<WeightedMutation> mix;
-        makeMutations(chooseStrategies(spec, analyzeScene(*scene)), *scene, 2, owned, mix);
+        makeMutations(chooseMutations(spec, analyzeScene(*scene)), *scene, 2, owned, mix);
         ChainRunSettings run;
         run.mutations = uint64_t(chains) * perChain;
         run.chains = chains;

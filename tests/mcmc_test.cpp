@@ -20,7 +20,7 @@
 #include "mcmc/path_space_chains.h"
 #include "mcmc/primary_sample_vector.h"
 #include "mcmc/primary_space_chains.h"
-#include "mcmc/strategy_selection.h"
+#include "mcmc/mutation_selection.h"
 #include "path/path_record.h"
 #include "sampling/render.h"
 #include "chain_runs.h"
@@ -515,17 +515,17 @@ TEST_CASE("strategy selection: auto leaves out caustic and multi-chain without s
           "[mcmc]") {
     SceneFeatures diffuse;
     diffuse.specularReason = "no delta BSDF";
-    const auto a = chooseStrategies("auto", diffuse);
+    const auto a = chooseMutations("auto", diffuse);
     REQUIRE(a.chosen.size() == 2);
     CHECK(a.chosen[1].name == "lens");
     CHECK(a.leftOut[0].find("caustic, multi-chain") != std::string::npos);
     SceneFeatures glass;
     glass.specularChains = true;
-    CHECK(chooseStrategies("auto", glass).chosen.size() == 4);
-    const auto w = chooseStrategies("bidirectional,lens:2,caustic", glass);
+    CHECK(chooseMutations("auto", glass).chosen.size() == 4);
+    const auto w = chooseMutations("bidirectional,lens:2,caustic", glass);
     CHECK(w.chosen[1].weight == 2);
     CHECK(w.chosen[2].weight == 1);
-    CHECK(chooseStrategies("bidirectional,lens-subpath", glass).chosen[1].name == "lens-subpath");
-    CHECK_THROWS_WITH(chooseStrategies("bidirectional,manifold", glass), Catch::Contains("not built yet"));
-    CHECK_THROWS_WITH(chooseStrategies("lens,caustic", glass), Catch::Contains("bidirectional"));
+    CHECK(chooseMutations("bidirectional,lens-subpath", glass).chosen[1].name == "lens-subpath");
+    CHECK_THROWS_WITH(chooseMutations("bidirectional,manifold", glass), Catch::Contains("not built yet"));
+    CHECK_THROWS_WITH(chooseMutations("lens,caustic", glass), Catch::Contains("bidirectional"));
 }

@@ -15,7 +15,7 @@
 #include "formats/ltfile.h"
 #include "mcmc/path_space_chains.h"
 #include "mcmc/primary_space_chains.h"
-#include "mcmc/strategy_selection.h"
+#include "mcmc/mutation_selection.h"
 
 using lt::tool::formatSeconds;
 
@@ -49,7 +49,7 @@ int main(int argc, char** argv) {
                    "path (default; Veach-Guibas MLT), primary (Kelemen PSSMLT) or multiplexed "
                    "(Hachisuka MMLT)")
         ->check(CLI::IsMember({"primary", "multiplexed", "path"}));
-    app.add_option("--strategies", strategies, lt::strategiesHelp());
+    app.add_option("--strategies", strategies, lt::mutationsHelp());
     app.add_option("--mutations", mutations, "total mutations over all chains")->check(CLI::PositiveNumber);
     app.add_option("--mutations-per-pixel", mutationsPerPixel, "total mutations as a multiple of the pixel count")
         ->check(CLI::PositiveNumber);
@@ -170,13 +170,13 @@ int main(int argc, char** argv) {
                                  {"estimator", "expected-value splatting; image = b / N sum f / f* at each state"}};
         // Path space: the strategies, and the longest path the bidirectional mutation may build.
         const int maxEdges = ps.paths.maxDepth > 0 ? ps.paths.maxDepth : unbounded;
-        lt::StrategyChoice choice;
+        lt::MutationChoice choice;
         if (pathSpace) {
             params.erase("large_step");
             params.erase("small_step");
             params["refine_b"] = refineB;
             if (!seeds.paths.empty()) params.erase("startup_samples");
-            choice = lt::chooseStrategies(strategies, lt::analyzeScene(*scene));
+            choice = lt::chooseMutations(strategies, lt::analyzeScene(*scene));
             nlohmann::json list = nlohmann::json::array();
             for (const auto& e : choice.chosen)
                 list.push_back({{"name", e.name}, {"weight", e.weight}});

@@ -1,6 +1,6 @@
 // Every path-space mutation lt knows, in one table: its name on the command line, what it moves, how to
 // make it for a scene, and the rule `--strategies auto` applies. A new mutation is one row of the table
-// (mutation_registry.cpp); strategy selection, lt-mutate's help and its messages read it from here.
+// (mutation_registry.cpp); mutation selection, lt-mutate's help and its messages read it from here.
 #pragma once
 
 #include <memory>

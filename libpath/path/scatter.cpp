@@ -2,9 +2,16 @@
 
 namespace lt {
 
-std::optional<BsdfSample> sampleScattering(PathVertex& v, const Vec3& wi, Transport mode, double uLobe, const Vec2& u) {
-    auto bs = v.worldBsdf().sample(wi, mode, uLobe, u);
+std::optional<BsdfSample> sampleScattering(const WorldBsdf& bsdf, const Vec3& wi, Transport mode, double uLobe,
+                                           const Vec2& u) {
+    auto bs = bsdf.sample(wi, mode, uLobe, u);
     if (!bs || bs->weight.isBlack()) return std::nullopt;
+    return bs;
+}
+
+std::optional<BsdfSample> sampleScattering(PathVertex& v, const Vec3& wi, Transport mode, double uLobe, const Vec2& u) {
+    auto bs = sampleScattering(v.worldBsdf(), wi, mode, uLobe, u);
+    if (!bs) return std::nullopt;
     v.lobe = bs->lobe;
     v.delta = (bs->lobe & LobeDelta) != 0;
     return bs;

@@ -2,6 +2,7 @@
 
 #include "bsdf/shading_correction.h"
 #include "math/error.h"
+#include "path/scatter.h"
 
 namespace lt {
 
@@ -77,8 +78,8 @@ Spectrum PathTracer::sample(const Vec2& raster, SampleGenerator& sampler, Sample
 
         sampler.startStream(SampleGenerator::CameraStream);
         const double uLobe = sampler.next1D();
-        const auto bs = wb.sample(wi, Transport::Radiance, uLobe, sampler.next2D());
-        if (!bs || bs->weight.isBlack()) break;
+        const auto bs = sampleScattering(wb, wi, Transport::Radiance, uLobe, sampler.next2D());
+        if (!bs) break;
         beta *= bs->weight;
         if (bs->lobe & LobeTransmission) etaScale *= bs->eta * bs->eta;
         prevDelta = bs->lobe & LobeDelta;

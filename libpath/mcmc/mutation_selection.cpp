@@ -1,4 +1,4 @@
-#include "mcmc/strategy_selection.h"
+#include "mcmc/mutation_selection.h"
 
 #include <algorithm>
 #include <cmath>
@@ -21,8 +21,8 @@ std::string availableList() {
 
 } // namespace
 
-StrategyChoice chooseStrategies(const std::string& spec, const SceneFeatures& features) {
-    StrategyChoice choice;
+MutationChoice chooseMutations(const std::string& spec, const SceneFeatures& features) {
+    MutationChoice choice;
     if (spec == "auto") {
         // Each mutation lt has, unless its rule leaves it out on this scene; mutations left out for the
         // same reason are named together ("caustic, multi-chain perturbations: ...").
@@ -50,7 +50,7 @@ StrategyChoice chooseStrategies(const std::string& spec, const SceneFeatures& fe
     std::string item;
     while (std::getline(in, item, ',')) {
         const auto colon = item.find(':');
-        StrategyChoice::Entry e{item.substr(0, colon), 1};
+        MutationChoice::Entry e{item.substr(0, colon), 1};
         if (colon != std::string::npos) {
             const std::string w = item.substr(colon + 1);
             char* end = nullptr;
@@ -59,7 +59,7 @@ StrategyChoice chooseStrategies(const std::string& spec, const SceneFeatures& fe
                 throw Error("--strategies: weight of '" + e.name + "' must be a positive number, got '" + w + "'");
         }
         const MutationKind* kind = findMutationKind(e.name);
-        if (!kind) throw Error("--strategies: unknown strategy '" + e.name + "' (available: " + availableList() + ")");
+        if (!kind) throw Error("--strategies: unknown mutation '" + e.name + "' (available: " + availableList() + ")");
         if (!kind->make)
             throw Error("--strategies: '" + e.name + "' is not built yet (available: " + availableList() + ")");
         for (const auto& c : choice.chosen)
@@ -74,7 +74,7 @@ StrategyChoice chooseStrategies(const std::string& spec, const SceneFeatures& fe
     return choice;
 }
 
-void makeMutations(const StrategyChoice& choice, const Scene& scene, int maxEdges,
+void makeMutations(const MutationChoice& choice, const Scene& scene, int maxEdges,
                    std::vector<std::unique_ptr<Mutation>>& owned, std::vector<WeightedMutation>& mix) {
     for (const auto& e : choice.chosen) {
         owned.push_back(findMutationKind(e.name)->make(scene, maxEdges));
@@ -82,7 +82,7 @@ void makeMutations(const StrategyChoice& choice, const Scene& scene, int maxEdge
     }
 }
 
-std::string strategiesHelp() {
+std::string mutationsHelp() {
     std::string help = "path-space mutations: auto (every mutation the scene can use; says what it leaves out and "
                        "why) or NAME[:WEIGHT],... (weights default to 1) of:";
     for (const auto& k : mutationKinds())

@@ -14,7 +14,7 @@
 
 namespace lt {
 
-struct StrategyChoice {
+struct MutationChoice {
     struct Entry {
         std::string name;
         double weight = 1;
@@ -23,16 +23,16 @@ struct StrategyChoice {
     std::vector<std::string> leftOut; // "NAME: why", for the user
 };
 
-// Throws lt::Error for an unknown name, a weight that is not a positive number, a strategy that is not
+// Throws lt::Error for an unknown name, a weight that is not a positive number, a mutation that is not
 // built yet, or a list without the bidirectional mutation.
-[[nodiscard]] StrategyChoice chooseStrategies(const std::string& spec, const SceneFeatures& features);
+[[nodiscard]] MutationChoice chooseMutations(const std::string& spec, const SceneFeatures& features);
 
 // The mutations of a choice, for a scene and a path-length bound; `mix` points into `owned`.
-void makeMutations(const StrategyChoice& choice, const Scene& scene, int maxEdges,
+void makeMutations(const MutationChoice& choice, const Scene& scene, int maxEdges,
                    std::vector<std::unique_ptr<Mutation>>& owned, std::vector<WeightedMutation>& mix);
 
 // lt-mutate's --help for --strategies: every mutation of the registry (mcmc/mutation_registry.h) with
 // what it moves.
-[[nodiscard]] std::string strategiesHelp();
+[[nodiscard]] std::string mutationsHelp();
 
 } // namespace lt

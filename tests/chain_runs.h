@@ -67,7 +67,7 @@ inline std::vector<float> runPathMix(const Scene& scene, const std::string& stra
     const auto seeds = seedWithBdpt(scene, b, seedSamples, 1024, seed * 7919 + 1, threads, nullptr);
     std::vector<std::unique_ptr<Mutation>> owned;
     std::vector<WeightedMutation> mix;
-    makeMutations(chooseMutations(strategies, analyzeScene(scene)), scene, maxDepth, owned, mix);
+    makeMutations(chooseMutations(strategies, analyzeScene(scene)), scene, {maxDepth}, owned, mix);
     ChainRunSettings rs;
     rs.mutations = mutations;
     rs.chains = 32;
@@ -154,6 +154,18 @@ inline RunRenderer pathRuns(const Scene& scene, const std::string& strategies, i
     return [&scene, strategies, depth, stats](uint64_t seed) {
         return runPathMix(scene, strategies, depth, 24 * 24 * 64, seed, 2, 20000, stats);
     };
+}
+
+// What every proposal of a perturbation that went through must show: a positive sampled density, the
+// configuration kept, both Q finite and the forward one positive. Returns |recomputed / sampled - 1|, the
+// mismatch of the density it sampled with and the T(x -> y) it computed from the two states.
+inline double proposalDensityMismatch(const Mutation& mutation, const Proposal& p) {
+    REQUIRE(p.sampledDensity > 0);
+    REQUIRE(mutation.suitable(p.y));
+    CHECK(p.forwardQ > 0);
+    CHECK(std::isfinite(p.forwardQ));
+    CHECK(std::isfinite(p.reverseQ));
+    return std::abs(p.recomputedDensity / p.sampledDensity - 1);
 }
 
 } // namespace lt::test

@@ -206,7 +206,7 @@ TEST_CASE("over 16 seeds the chains' image means on cornell-box agree with BDPT 
         const auto seeds = seedWithBdpt(*scene, b, 100000, 1024, seed * 7919 + 1, 2, nullptr);
         std::vector<std::unique_ptr<Mutation>> owned;
         std::vector<WeightedMutation> mix;
-        makeMutations(chooseMutations("auto", analyzeScene(*scene)), *scene, depth, owned, mix);
+        makeMutations(chooseMutations("auto", analyzeScene(*scene)), *scene, {depth}, owned, mix);
         ChainRunSettings rs;
         rs.mutations = mutations;
         rs.chains = 256;

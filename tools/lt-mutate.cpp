@@ -1,6 +1,7 @@
 // lt-mutate: Markov-chain Monte Carlo rendering: path-space MLT (Veach and Guibas 1997) started from
 // seed paths, Kelemen's primary-sample-space MLT and multiplexed MLT over lt's BDPT, with per-strategy
 // statistics, snapshots and Ctrl-C.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <iomanip>
@@ -35,7 +36,7 @@ int main(int argc, char** argv) {
     std::string scenePath, seedsPath, out, space = "path", resolution, snapshotTimes, snapshotMutations,
                                            strategies = "auto", dumpPaths;
     uint64_t mutations = 0, seed = 0, startupSamples = 0;
-    double timeLimit = 0, mutationsPerPixel = 0, largeStep = 0.3, refineB = 1.0 / 16;
+    double timeLimit = 0, mutationsPerPixel = 0, largeStep = 0.3, refineB = 1.0 / 16, lambda = 50;
     int chains = 256, threads = 0, maxDepth = -2, unbounded = 12, round = 64;
     size_t dumpEvery = 0;
     bool quiet = false;
@@ -50,6 +51,10 @@ int main(int argc, char** argv) {
                    "(Hachisuka MMLT)")
         ->check(CLI::IsMember({"primary", "multiplexed", "path"}));
     app.add_option("--strategies", strategies, lt::mutationsHelp());
+    app.add_option("--lambda", lambda,
+                   "manifold perturbation: the direction lobe's peak as lambda^2 times the BSDF's sampling density "
+                   "(default 50; Jakob & Marschner suggest 50-500: larger takes smaller steps)")
+        ->check(CLI::PositiveNumber);
     app.add_option("--mutations", mutations, "total mutations over all chains")->check(CLI::PositiveNumber);
     app.add_option("--mutations-per-pixel", mutationsPerPixel, "total mutations as a multiple of the pixel count")
         ->check(CLI::PositiveNumber);
@@ -101,6 +106,7 @@ int main(int argc, char** argv) {
         if (space != "path" && app.count("--strategies") && strategies != "auto")
             throw lt::Error("--strategies selects path-space mutations; --space " + space +
                             " has its own (large and small steps, --large-step)");
+        if (space != "path" && app.count("--lambda")) throw lt::Error("--lambda is for --space path");
         if (space == "path" && (app.count("--large-step") || app.count("--max-length-unbounded")))
             throw lt::Error("--large-step and --max-length-unbounded are for --space primary and multiplexed");
         if (space != "path" && app.count("--refine-b"))
@@ -182,6 +188,9 @@ int main(int argc, char** argv) {
                 list.push_back({{"name", e.name}, {"weight", e.weight}});
             params["strategies"] = list;
             params["max_length"] = maxEdges;
+            if (std::any_of(choice.chosen.begin(), choice.chosen.end(),
+                            [](const auto& e) { return e.name == "manifold"; }))
+                params["lambda"] = lambda;
             for (const auto& why : choice.leftOut)
                 if (!quiet) std::cerr << "lt-mutate: left out: " << why << '\n';
             if (!quiet && ps.paths.maxDepth < 0)
@@ -223,7 +232,7 @@ int main(int argc, char** argv) {
             }
             std::vector<std::unique_ptr<lt::Mutation>> owned;
             std::vector<lt::WeightedMutation> mix;
-            lt::makeMutations(choice, *scene, maxEdges, owned, mix);
+            lt::makeMutations(choice, *scene, {maxEdges, lambda}, owned, mix);
             stats = lt::runPathSpaceChains(*scene, seeds, mix, rs, ps.paths, refineB, film, onProgress,
                                            &lt::tool::stopRequested(), onSnapshot, dump);
             if (dumpWriter) dumpWriter->finish();

@@ -26,6 +26,25 @@ bool isDelta(const PathVertex& v) { return v.type == VertexType::Surface && v.de
 
 } // namespace
 
+std::optional<ManifoldChain> manifoldChain(std::span<const PathVertex> V, size_t from, size_t to) {
+    const int step = to > from ? 1 : -1;
+    const size_t n = (to > from ? to - from : from - to) + 1;
+    ManifoldChain chain;
+    chain.reserve(n);
+    for (size_t j = 0; j < n; ++j) {
+        const size_t i = from + size_t(step * int(j));
+        const auto v = chartOf(V[i], V[j == 0 ? from + size_t(step) : i - size_t(step)]);
+        if (!v) return std::nullopt;
+        chain.push_back(*v);
+    }
+    for (size_t j = 1; j + 1 < n; ++j) {
+        const Bsdf* bsdf = V[from + size_t(step * int(j))].bsdf;
+        const auto eta = bsdf ? bsdf->eta() : std::nullopt;
+        if (!setScattering(chain[j], chain[j - 1], chain[j + 1], eta, true)) return std::nullopt;
+    }
+    return chain;
+}
+
 std::vector<ChainInPath> specularChains(std::span<const PathVertex> V) {
     std::vector<ChainInPath> out;
     for (size_t a = 0; a + 2 < V.size(); ++a) {
@@ -37,19 +56,7 @@ std::vector<ChainInPath> specularChains(std::span<const PathVertex> V) {
         ChainInPath c;
         c.first = a;
         c.last = b;
-        for (size_t i = a; i <= b; ++i) {
-            const auto v = chartOf(V[i], V[i == a ? a + 1 : i - 1]);
-            if (!v) {
-                c.chain.clear();
-                break;
-            }
-            c.chain.push_back(*v);
-        }
-        for (size_t j = 1; !c.chain.empty() && j + 1 < c.chain.size(); ++j) {
-            const Bsdf* bsdf = V[a + j].bsdf;
-            const auto eta = bsdf ? bsdf->eta() : std::nullopt;
-            if (!setScattering(c.chain[j], c.chain[j - 1], c.chain[j + 1], eta, true)) c.chain.clear();
-        }
+        if (auto chain = manifoldChain(V, a, b)) c.chain = std::move(*chain);
         out.push_back(std::move(c));
         a = b - 1;
     }

@@ -27,6 +27,11 @@ struct ChainInPath {
     std::optional<WalkResult> reverse;   // the reverse walk of a converged perturbed walk (ME section 5.1)
 };
 
+// The vertices path[from] .. path[to] (either order; `from` first) in the manifold's charts, the
+// interior set up as specular (setScattering): the chain a walk pinned at `from` moves. Nothing where a
+// chart is degenerate or a constraint undefined.
+[[nodiscard]] std::optional<ManifoldChain> manifoldChain(std::span<const PathVertex> path, size_t from, size_t to);
+
 // The chains of a path given by its vertices, light to eye (PathVertex::delta marks the specular ones);
 // paths without delta vertices have none.
 [[nodiscard]] std::vector<ChainInPath> specularChains(std::span<const PathVertex> path);

@@ -4,6 +4,7 @@
 #include "mcmc/mutations/caustic_perturbation.h"
 #include "mcmc/mutations/lens_perturbation.h"
 #include "mcmc/mutations/lens_subpath_mutation.h"
+#include "mcmc/mutations/manifold_perturbation.h"
 #include "mcmc/mutations/multi_chain_perturbation.h"
 
 namespace lt {
@@ -22,29 +23,46 @@ std::string optional(const SceneFeatures&) {
     return "optional (Veach 1997; Mitsuba dropped it for want of a gain); ask for it with --strategies";
 }
 
+std::string notInAutoYet(const SceneFeatures&) {
+    return "specular chains only so far (glossy chains to come); ask for it with --strategies";
+}
+
 std::string planned(const SceneFeatures&) { return "not built yet"; }
 
 const MutationKind Kinds[] = {
     {"bidirectional", "mutation", "replaces any part of a path; required: the others alone are not ergodic",
-     [](const Scene& s, int maxEdges) -> std::unique_ptr<Mutation> {
-         return std::make_unique<BidirectionalMutation>(s, maxEdges);
+     [](const Scene& s, const MutationSettings& m) -> std::unique_ptr<Mutation> {
+         return std::make_unique<BidirectionalMutation>(s, m.maxEdges);
      },
      always},
     {"lens", "perturbation", "moves the eye end of (L|D) D S* E paths to a nearby raster position",
-     [](const Scene& s, int) -> std::unique_ptr<Mutation> { return std::make_unique<LensPerturbation>(s); }, always},
+     [](const Scene& s, const MutationSettings&) -> std::unique_ptr<Mutation> {
+         return std::make_unique<LensPerturbation>(s);
+     },
+     always},
     {"caustic", "perturbation",
      "turns the light end of (L|D) S+ D E paths: caustics on a diffuse surface seen directly",
-     [](const Scene& s, int) -> std::unique_ptr<Mutation> { return std::make_unique<CausticPerturbation>(s); },
+     [](const Scene& s, const MutationSettings&) -> std::unique_ptr<Mutation> {
+         return std::make_unique<CausticPerturbation>(s);
+     },
      needsSpecularChains},
     {"multi-chain", "perturbation", "the lens perturbation carried through D S+ D S* E paths, chain after chain",
-     [](const Scene& s, int) -> std::unique_ptr<Mutation> { return std::make_unique<MultiChainPerturbation>(s); },
+     [](const Scene& s, const MutationSettings&) -> std::unique_ptr<Mutation> {
+         return std::make_unique<MultiChainPerturbation>(s);
+     },
      needsSpecularChains},
     {"lens-subpath", "mutation", "a fresh eye end of (L|D) D S* E paths through a random raster position",
-     [](const Scene& s, int maxEdges) -> std::unique_ptr<Mutation> {
-         return std::make_unique<LensSubpathMutation>(s, maxEdges);
+     [](const Scene& s, const MutationSettings& m) -> std::unique_ptr<Mutation> {
+         return std::make_unique<LensSubpathMutation>(s, m.maxEdges);
      },
      optional},
-    {"manifold", "perturbation", "manifold exploration (not built yet)", nullptr, planned},
+    {"manifold", "perturbation",
+     "manifold exploration: turns a direction and walks the specular chain after it (caustics seen through "
+     "glass and mirrors)",
+     [](const Scene& s, const MutationSettings& m) -> std::unique_ptr<Mutation> {
+         return std::make_unique<ManifoldPerturbation>(s, m.lambda);
+     },
+     notInAutoYet},
     {"half-vector", "mutation", "half-vector space light transport (not built yet)", nullptr, planned},
     {"portal", "perturbation", "portal-based perturbation (not built yet)", nullptr, planned},
 };

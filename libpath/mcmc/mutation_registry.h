@@ -12,13 +12,19 @@
 
 namespace lt {
 
+// What the mutations of a run are made with.
+struct MutationSettings {
+    int maxEdges = -1;  // bound on path edges (the bidirectional mutation and lens subpaths keep to it)
+    double lambda = 50; // the manifold perturbation's lobe peak relative to the BSDF's (ME Sec. 5.1)
+};
+
 struct MutationKind {
     const char* name;    // --strategies NAME
     const char* noun;    // "mutation" or "perturbation": how messages call it
     const char* summary; // what it moves, for --help
-    // Makes the mutation for a scene and a bound on path edges; null for a mutation of the papers that
-    // lt does not have yet (named so that asking for it is a clear error).
-    std::unique_ptr<Mutation> (*make)(const Scene& scene, int maxEdges);
+    // Makes the mutation for a scene; null for a mutation of the papers that lt does not have yet (named
+    // so that asking for it is a clear error).
+    std::unique_ptr<Mutation> (*make)(const Scene& scene, const MutationSettings& settings);
     // Empty when `auto` uses it on a scene with these features; otherwise why auto leaves it out.
     std::string (*autoLeavesOut)(const SceneFeatures& features);
 };

@@ -74,10 +74,10 @@ MutationChoice chooseMutations(const std::string& spec, const SceneFeatures& fea
     return choice;
 }
 
-void makeMutations(const MutationChoice& choice, const Scene& scene, int maxEdges,
+void makeMutations(const MutationChoice& choice, const Scene& scene, const MutationSettings& settings,
                    std::vector<std::unique_ptr<Mutation>>& owned, std::vector<WeightedMutation>& mix) {
     for (const auto& e : choice.chosen) {
-        owned.push_back(findMutationKind(e.name)->make(scene, maxEdges));
+        owned.push_back(findMutationKind(e.name)->make(scene, settings));
         mix.push_back({owned.back().get(), e.weight});
     }
 }

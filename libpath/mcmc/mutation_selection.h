@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "mcmc/mutation.h"
+#include "mcmc/mutation_registry.h"
 #include "mcmc/path_space_chains.h"
 #include "scene/scene_features.h"
 
@@ -27,8 +28,8 @@ struct MutationChoice {
 // built yet, or a list without the bidirectional mutation.
 [[nodiscard]] MutationChoice chooseMutations(const std::string& spec, const SceneFeatures& features);
 
-// The mutations of a choice, for a scene and a path-length bound; `mix` points into `owned`.
-void makeMutations(const MutationChoice& choice, const Scene& scene, int maxEdges,
+// The mutations of a choice, for a scene; `mix` points into `owned`.
+void makeMutations(const MutationChoice& choice, const Scene& scene, const MutationSettings& settings,
                    std::vector<std::unique_ptr<Mutation>>& owned, std::vector<WeightedMutation>& mix);
 
 // lt-mutate's --help for --strategies: every mutation of the registry (mcmc/mutation_registry.h) with

@@ -16,6 +16,10 @@ const char* rejectCauseName(RejectCause c) {
         return "configuration_changed";
     case RejectCause::NonFinite:
         return "nonfinite";
+    case RejectCause::WalkFailed:
+        return "walk_failed";
+    case RejectCause::NotReversible:
+        return "not_reversible";
     case RejectCause::Count:
         break;
     }
@@ -59,20 +63,36 @@ file::StatTable MutationStatistics::table(const std::string& name) const {
 }
 
 std::string MutationStatistics::text() const {
+    // The walk columns only when some strategy walks (the manifold perturbation).
+    bool walks = false;
+    for (const auto& k : counters_)
+        walks = walks || k.rejected[size_t(RejectCause::WalkFailed)] || k.rejected[size_t(RejectCause::NotReversible)];
     std::string out;
-    char line[256];
-    std::snprintf(line, sizeof line, "%-16s %12s %9s %10s %10s %9s %9s %9s %9s %9s\n", "strategy", "proposed",
-                  "accepted", "mean a", "zero f", "occluded", "off image", "config", "nonfinite", "us/prop");
+    char line[320];
+    std::snprintf(line, sizeof line, "%-16s %12s %9s %10s %10s %9s %9s %9s %9s", "strategy", "proposed", "accepted",
+                  "mean a", "zero f", "occluded", "off image", "config", "nonfinite");
     out += line;
+    if (walks) {
+        std::snprintf(line, sizeof line, " %11s %14s", "walk failed", "not reversible");
+        out += line;
+    }
+    out += "   us/prop\n";
     for (size_t i = 0; i < names_.size(); ++i) {
         const auto& k = counters_[i];
         const double n = double(k.proposed);
-        auto pct = [&](double v) { return n > 0 ? 100.0 * v / n : 0.0; };
-        std::snprintf(line, sizeof line, "%-16s %12llu %8.2f%% %10.4f %9.2f%% %8.2f%% %8.2f%% %8.2f%% %9llu %9.2f\n",
-                      names_[i].c_str(), (unsigned long long)k.proposed, pct(double(k.accepted)),
-                      n > 0 ? k.acceptance / n : 0.0, pct(double(k.rejected[0])), pct(double(k.rejected[1])),
-                      pct(double(k.rejected[2])), pct(double(k.rejected[3])), (unsigned long long)k.rejected[4],
-                      n > 0 ? 1e6 * k.seconds / n : 0.0);
+        auto pct = [&](RejectCause c) { return n > 0 ? 100.0 * double(k.rejected[size_t(c)]) / n : 0.0; };
+        std::snprintf(line, sizeof line, "%-16s %12llu %8.2f%% %10.4f %9.2f%% %8.2f%% %8.2f%% %8.2f%% %9llu",
+                      names_[i].c_str(), (unsigned long long)k.proposed, n > 0 ? 100.0 * double(k.accepted) / n : 0.0,
+                      n > 0 ? k.acceptance / n : 0.0, pct(RejectCause::ZeroContribution), pct(RejectCause::Occluded),
+                      pct(RejectCause::LeftImage), pct(RejectCause::ConfigurationChanged),
+                      (unsigned long long)k.rejected[size_t(RejectCause::NonFinite)]);
+        out += line;
+        if (walks) {
+            std::snprintf(line, sizeof line, " %10.2f%% %13.2f%%", pct(RejectCause::WalkFailed),
+                          pct(RejectCause::NotReversible));
+            out += line;
+        }
+        std::snprintf(line, sizeof line, " %9.2f\n", n > 0 ? 1e6 * k.seconds / n : 0.0);
         out += line;
     }
     return out;

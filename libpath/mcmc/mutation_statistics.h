@@ -20,6 +20,8 @@ enum class RejectCause : int {
     LeftImage,            // the proposal's camera ray lands outside the sensor
     ConfigurationChanged, // a perturbation met a different kind of vertex than the path had
     NonFinite,            // NaN or Inf: dropped and counted (no NaN reaches an output)
+    WalkFailed,           // a manifold walk did not reach its target (diverged, TIR, left the surface, singular)
+    NotReversible,        // the walk back from the proposal did not return to the state (ME Sec. 5.1)
     Count
 };
 [[nodiscard]] const char* rejectCauseName(RejectCause c);

@@ -50,8 +50,12 @@ check "Ctrl-C: a complete file with the work done" '[ "$(tail -c 16 "$tmp/int.lt
 
 out=$("$bin/lt-mutate" "$scene" -o "$tmp/x.lts" 2>&1); code=$?
 check "no length given: one error line" '[ $code -ne 0 ] && [ "$(echo "$out" | wc -l)" -eq 1 ]'
-out=$("$bin/lt-mutate" "$scene" --time 1 --strategies bidirectional,manifold -o "$tmp/x.lts" 2>&1); code=$?
+out=$("$bin/lt-mutate" "$scene" --time 1 --strategies bidirectional,half-vector -o "$tmp/x.lts" 2>&1); code=$?
 check "a strategy not built yet is refused by name" '[ $code -ne 0 ] && echo "$out" | grep -q "not built yet"'
+out=$("$bin/lt-mutate" "$scene" --time 1 --strategies bidirectional,manifold --lambda 0 -o "$tmp/x.lts" 2>&1); code=$?
+check "--lambda 0 refused" '[ $code -ne 0 ] && echo "$out" | grep -q lambda'
+out=$("$bin/lt-mutate" "$scene" --time 1 --space primary --lambda 10 -o "$tmp/x.lts" 2>&1); code=$?
+check "--lambda with a primary space refused" '[ $code -ne 0 ] && echo "$out" | grep -q "lambda is for --space path"'
 out=$("$bin/lt-mutate" "$src/tests/cli/nope.xml" --time 1 -o "$tmp/x.lts" 2>&1); code=$?
 check "missing scene: one line naming it" '[ $code -ne 0 ] && [ "$(echo "$out" | wc -l)" -eq 1 ] && echo "$out" | grep -q nope.xml'
 printf 'LTF\001garbage' > "$tmp/bad.ltp"
@@ -73,6 +77,12 @@ check "bidirectional,lens:2,caustic,lens-subpath: exit 0" '[ $code -eq 0 ]'
 check "bidirectional,lens:2,caustic,lens-subpath: the table lists all four" \
     'grep -q "^bidirectional" "$tmp/mix-err" && grep -q "^lens " "$tmp/mix-err" && grep -q "^caustic" "$tmp/mix-err" &&
      grep -q "^lens-subpath" "$tmp/mix-err"'
+# The manifold perturbation: its rejection table has the walk columns, its lambda is in the file's INFO.
+"$bin/lt-mutate" "$src/scenes/cornell-spheres/scene.xml" --resolution 16x16 --strategies bidirectional,manifold \
+    --lambda 20 --mutations 20000 --chains 8 --startup-samples 2000 -o "$tmp/me.lts" 2> "$tmp/me-err"; code=$?
+check "bidirectional,manifold: exit 0, walk columns" \
+    '[ $code -eq 0 ] && grep -q "^manifold" "$tmp/me-err" && grep -q "walk failed" "$tmp/me-err"'
+check "bidirectional,manifold: lambda stored" '"$bin/lt-inspect" "$tmp/me.lts" | grep -q "lambda"'
 "$bin/lt-mutate" "$scene" --strategies auto --mutations 2000 --chains 4 --startup-samples 500 -o "$tmp/auto.lts" \
     2> "$tmp/auto-err"
 check "auto without specular surfaces: caustic and multi-chain left out, with the reason" \

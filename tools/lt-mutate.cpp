@@ -265,6 +265,8 @@ int main(int argc, char** argv) {
         if (seedB >= 0) norm.emplace_back("b_seed_file", seedB);
         writer.writeStats(lt::file::valueTable("normalization", norm));
         writer.writeStats(stats.strategies.table());
+        for (const auto& t : stats.strategies.walkTables())
+            writer.writeStats(t);
         if (!pathSpace && ps.space == lt::PrimarySpace::Multiplexed) {
             lt::file::StatTable lengths{
                 "path_lengths", {"b", "b_standard_error", "b_samples", "chains_started", "mutations"}, {}, {}};

@@ -6,15 +6,33 @@
 
 namespace lt {
 
-void WalkStatistics::add(const WalkResult& r, size_t chainLength) {
+void WalkStatistics::add(const WalkOutcome& w) {
     ++attempted;
-    ++byCause[size_t(r.failure)];
-    ++chainLengths[chainLength];
-    if (r.converged()) {
+    ++byCause[size_t(w.failure)];
+    ++chainLengths[w.chainLength];
+    if (w.failure == WalkFailure::None) {
         ++converged;
-        iterationsConverged += uint64_t(r.iterations);
-        maxIterations = std::max(maxIterations, r.iterations);
+        iterationsConverged += uint64_t(w.iterations);
+        maxIterations = std::max(maxIterations, w.iterations);
     }
+}
+
+file::StatTable WalkStatistics::table(const std::string& name, const std::string& row) const {
+    file::StatTable t;
+    t.name = name;
+    t.columns = {"attempted", "converged", "mean_iterations", "max_iterations"};
+    std::vector<double> values = {double(attempted), double(converged), meanIterations(), double(maxIterations)};
+    for (size_t i = 1; i < byCause.size(); ++i) {
+        // A column name without blanks: "left the surface / missed" -> "failed_left_the_surface".
+        std::string cause(walkFailureName(WalkFailure(i)));
+        cause = cause.substr(0, cause.find(" /"));
+        std::replace(cause.begin(), cause.end(), ' ', '_');
+        t.columns.push_back("failed_" + cause);
+        values.push_back(double(byCause[i]));
+    }
+    t.rows = {row};
+    t.values = {values};
+    return t;
 }
 
 void WalkStatistics::merge(const WalkStatistics& o) {

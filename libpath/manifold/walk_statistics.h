@@ -6,10 +6,19 @@
 #include <cstdint>
 #include <map>
 #include <ostream>
+#include <string>
 
+#include "formats/records.h"
 #include "manifold/manifold_walk.h"
 
 namespace lt {
+
+// One walk as the statistics count it: how it ended, its iterations, the vertices of its chain.
+struct WalkOutcome {
+    WalkFailure failure = WalkFailure::None;
+    int iterations = 0;
+    size_t chainLength = 0;
+};
 
 struct WalkStatistics {
     uint64_t attempted = 0;
@@ -19,7 +28,8 @@ struct WalkStatistics {
     std::array<uint64_t, WalkFailureCount> byCause{}; // indexed by WalkFailure (None = converged)
     std::map<size_t, uint64_t> chainLengths;          // vertices per walked chain (endpoints included)
 
-    void add(const WalkResult& r, size_t chainLength);
+    void add(const WalkOutcome& w);
+    void add(const WalkResult& r, size_t chainLength) { add({r.failure, r.iterations, chainLength}); }
     void merge(const WalkStatistics& o);
     [[nodiscard]] double convergedFraction() const { return attempted ? double(converged) / double(attempted) : 0; }
     [[nodiscard]] double meanIterations() const {
@@ -27,6 +37,9 @@ struct WalkStatistics {
     }
     // A readable table: one line per figure, failures with their share of all walks.
     void print(std::ostream& out) const;
+    // The figures as a file's statistics table (one row, `row`): attempted, converged, mean and max
+    // iterations, one column per failure cause.
+    [[nodiscard]] file::StatTable table(const std::string& name, const std::string& row) const;
 };
 
 } // namespace lt

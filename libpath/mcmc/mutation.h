@@ -8,6 +8,7 @@
 
 #include <string>
 
+#include "manifold/walk_statistics.h"
 #include "math/rng.h"
 #include "mcmc/markov_path.h"
 
@@ -18,6 +19,7 @@ struct Proposal {
     double forwardQ = 0;               // T(x -> y) / f*(y), selection probability excluded
     double reverseQ = 0;               // T(y -> x) / f*(x)
     std::optional<RejectCause> failed; // no path proposed, and why
+    std::optional<WalkOutcome> walk;   // the manifold walk the proposal made, if any (its end-of-run figures)
     // For the detailed-balance checks of the tests: the density the proposal actually sampled its new
     // vertices with (multiplied step by step while sampling) and the one recomputed from scratch for
     // the same sampling decisions.

@@ -1,6 +1,7 @@
 #include "mcmc/mutation_statistics.h"
 
 #include <cstdio>
+#include <sstream>
 
 namespace lt {
 
@@ -33,6 +34,7 @@ void StrategyCounters::merge(const StrategyCounters& o) {
     for (size_t i = 0; i < rejected.size(); ++i)
         rejected[i] += o.rejected[i];
     seconds += o.seconds;
+    walks.merge(o.walks);
 }
 
 MutationStatistics::MutationStatistics(std::vector<std::string> strategies)
@@ -60,6 +62,13 @@ file::StatTable MutationStatistics::table(const std::string& name) const {
         t.values.push_back(std::move(row));
     }
     return t;
+}
+
+std::vector<file::StatTable> MutationStatistics::walkTables() const {
+    std::vector<file::StatTable> out;
+    for (size_t i = 0; i < names_.size(); ++i)
+        if (counters_[i].walks.attempted) out.push_back(counters_[i].walks.table("walks." + names_[i], names_[i]));
+    return out;
 }
 
 std::string MutationStatistics::text() const {
@@ -94,6 +103,12 @@ std::string MutationStatistics::text() const {
         }
         std::snprintf(line, sizeof line, " %9.2f\n", n > 0 ? 1e6 * k.seconds / n : 0.0);
         out += line;
+    }
+    for (size_t i = 0; i < names_.size(); ++i) {
+        if (!counters_[i].walks.attempted) continue;
+        std::ostringstream walks;
+        counters_[i].walks.print(walks);
+        out += names_[i] + " walks:\n" + walks.str();
     }
     return out;
 }

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "formats/records.h"
+#include "manifold/walk_statistics.h"
 
 namespace lt {
 
@@ -32,6 +33,7 @@ struct StrategyCounters {
     double acceptance = 0; // sum of the acceptance probabilities
     std::array<uint64_t, size_t(RejectCause::Count)> rejected{};
     double seconds = 0; // CPU time spent proposing and evaluating
+    WalkStatistics walks; // the manifold walks of its proposals (ME Sec. 4's figures)
 
     void merge(const StrategyCounters& o);
 };
@@ -48,7 +50,9 @@ public:
     // The table as stored in files: one row per strategy; columns proposed, accepted, acceptance (mean
     // probability), one column per rejection cause, seconds.
     [[nodiscard]] file::StatTable table(const std::string& name = "strategies") const;
-    // The same as aligned text for a terminal.
+    // Per strategy that walked, its walk figures (table name "walks.NAME").
+    [[nodiscard]] std::vector<file::StatTable> walkTables() const;
+    // The same as aligned text for a terminal, with the walk figures of each strategy that walked.
     [[nodiscard]] std::string text() const;
 
 private:

@@ -49,6 +49,7 @@ public:
             StrategyCounters& k = stats_[m];
             ++k.proposed;
             mutations_[m].mutation->propose(x_, rng_, proposal_);
+            if (proposal_.walk) k.walks.add(*proposal_.walk);
             double a = 0;
             if (proposal_.failed) {
                 ++k.rejected[size_t(*proposal_.failed)];

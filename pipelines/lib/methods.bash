@@ -2,8 +2,10 @@
 # plugs in here once. Needs $bin (the tools) and $scene; extra tool options come after the arguments.
 #   render_method METHOD OUT.lts SECONDS SEED [tool options...]
 # Methods: pt, bdpt (lt-seed); mlt, pssmlt, mmlt (lt-mutate --space path | primary | multiplexed; mlt
-# seeds itself with BDPT inside its time). Methods of tools that do not exist yet are refused by name.
-known_methods="pt bdpt mlt pssmlt mmlt"
+# seeds itself with BDPT inside its time and takes --strategies auto, Veach's perturbations); memlt
+# (path space with the bidirectional mutation and the manifold perturbation, as Jakob & Marschner define
+# MEMLT). Methods of tools that do not exist yet are refused by name.
+known_methods="pt bdpt mlt pssmlt mmlt memlt"
 
 render_method() {
   local method="$1" file="$2" time="$3" seed="$4"; shift 4
@@ -12,8 +14,11 @@ render_method() {
     mlt|pssmlt|mmlt)
       local space=path; [ "$method" = pssmlt ] && space=primary; [ "$method" = mmlt ] && space=multiplexed
       "$bin/lt-mutate" "$scene" --space "$space" --time "$time" --seed "$seed" --snapshots doubling -o "$file" -q "$@" ;;
-    memlt|hslt|portal|gpt|gdpr)
-      echo "$0: method '$method' needs a part that does not exist yet (manifold/half-vector/portal mutations, lt-gradient)" >&2; return 1 ;;
+    memlt)
+      "$bin/lt-mutate" "$scene" --strategies bidirectional,manifold --time "$time" --seed "$seed" --snapshots doubling \
+        -o "$file" -q "$@" ;;
+    hslt|portal|gpt|gdpr)
+      echo "$0: method '$method' needs a part that does not exist yet (half-vector/portal mutations, lt-gradient)" >&2; return 1 ;;
     *) echo "$0: unknown method '$method' (known: $known_methods)" >&2; return 1 ;;
   esac
 }

@@ -82,7 +82,7 @@ check "bidirectional,lens:2,caustic,lens-subpath: the table lists all four" \
     --lambda 20 --mutations 20000 --chains 8 --startup-samples 2000 -o "$tmp/me.lts" 2> "$tmp/me-err"; code=$?
 check "bidirectional,manifold: exit 0, walk columns" \
     '[ $code -eq 0 ] && grep -q "^manifold" "$tmp/me-err" && grep -q "walk failed" "$tmp/me-err"'
-check "bidirectional,manifold: lambda stored" '"$bin/lt-inspect" "$tmp/me.lts" | grep -q "lambda"'
+check "bidirectional,manifold: lambda and the walk figures stored" '"$bin/lt-inspect" "$tmp/me.lts" | grep -q "lambda" && "$bin/lt-inspect" "$tmp/me.lts" | grep -q "walks.manifold"'
 "$bin/lt-mutate" "$scene" --strategies auto --mutations 2000 --chains 4 --startup-samples 500 -o "$tmp/auto.lts" \
     2> "$tmp/auto-err"
 check "auto without specular surfaces: caustic and multi-chain left out, with the reason" \

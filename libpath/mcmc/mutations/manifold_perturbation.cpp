@@ -157,12 +157,14 @@ void ManifoldPerturbation::propose(const MarkovPath& x, Pcg32& rng, Proposal& ou
             return;
         }
         const WalkResult walked = walkManifold(scene_, *chain, *target, WalkEnd::Last, walk_);
+        out.walk = WalkOutcome{walked.failure, walked.iterations, chain->size()};
         if (!walked.converged()) {
             out.failed = rejectionOf(walked.failure);
             return;
         }
         const WalkResult back = reverseWalk(scene_, *chain, walked.chain, WalkEnd::Last, walk_, ReverseWalkTolerance);
         if (!back.converged()) {
+            out.walk->failure = back.failure; // counted as the walk's failure (ME Sec. 5.1 step 4)
             out.failed = rejectionOf(back.failure);
             return;
         }

@@ -27,4 +27,10 @@ check "sweep.sh: exit 0, a row per value" '[ $code -eq 0 ] && grep -q "max-depth
 # maxDepth 1 sees only the light: the rest of the box is black, so its error must be the larger one.
 e1=$(awk '$1 ~ /max-depth=1/ { print $5 }' "$tmp/sw/sweep.txt"); e3=$(awk '$1 ~ /max-depth=3/ { print $5 }' "$tmp/sw/sweep.txt")
 check "sweep.sh: depth 1 misses the indirect light ($e1 vs $e3)" '/usr/bin/python3 -c "import sys; sys.exit(0 if float(\"$e1\") > float(\"$e3\") else 1)"'
+bash "$src/pipelines/sweep.sh" "$scene" --ref "$tmp/ref.exr" --tool lt-mutate --option --lambda --values 10,100 \
+  --out "$tmp/sl" -- --strategies bidirectional,manifold --mutations 20000 --chains 4 > "$tmp/sllog" 2>&1; code=$?
+check "sweep.sh --tool lt-mutate: a row per value and each run's strategy table" \
+  '[ $code -eq 0 ] && grep -q "lambda=10.lts" "$tmp/sl/sweep.txt" && [ "$(grep -c "^ *manifold" "$tmp/sl/sweep.txt")" -ge 2 ]'
+out=$(bash "$src/pipelines/sweep.sh" "$scene" --ref "$tmp/ref.exr" --tool lt-image --option --x --values 1 2>&1); code=$?
+check "sweep.sh: an unknown --tool refused by name" '[ $code -ne 0 ] && echo "$out" | grep -q lt-image'
 exit $fail

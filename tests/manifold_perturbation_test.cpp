@@ -235,3 +235,29 @@ TEST_CASE("manifold perturbation on stiff cases: index nearly matched and 4, sce
         CHECK(w.converged > 0);
     }
 }
+
+TEST_CASE("MEMLT in the furnace box with a mirror ball and a glass ball: every pixel is Le / (1 - rho)",
+          "[manifold][mcmc]") {
+    // Lossless specular balls in a furnace whose walls emit 1 and reflect rho: the radiance is 1 / (1 - rho)
+    // everywhere, seen directly, in the mirror or through the glass. The chains' image mean must be it
+    // (paths beyond 12 edges are cut: with rho 0.2 and balls that lose nothing, under 1e-3 of it).
+    test::TempDir dir;
+    const double rho = 0.2;
+    const auto scene = loadScene(test::furnaceBox(dir, rho, 12, "box", 1, R"(
+  <shape type="sphere"><point name="center" x="0.3" y="0.2" z="-0.6"/><float name="radius" value="0.25"/>
+    <bsdf type="conductor"><string name="material" value="none"/></bsdf></shape>
+  <shape type="sphere"><point name="center" x="-0.2" y="0.3" z="-0.7"/><float name="radius" value="0.2"/>
+    <bsdf type="dielectric"/></shape>)"));
+    const double exact = 1 / (1 - rho);
+    std::vector<double> means;
+    MutationStatistics stats;
+    for (uint64_t seed = 0; seed < 8; ++seed) {
+        const auto image = test::runPathMix(*scene, "bidirectional,manifold", 12, 24 * 24 * 32, seed, 2, 20000, &stats);
+        means.push_back(test::imageMean(image));
+    }
+    const auto m = test::meanAndError(means);
+    INFO("MEMLT: " << m.mean << " +- " << m.error << ", exact " << exact << "\n" << stats.text());
+    CHECK(std::abs(m.mean - exact) < 5 * m.error + 1e-3 * exact);
+    CHECK(m.error < 0.02 * exact);
+    CHECK(stats[1].walks.converged > 100);
+}

@@ -54,9 +54,10 @@ inline std::string errorOf(const std::function<void()>& f) {
 }
 
 // A closed box whose walls all emit Le = 1 and reflect diffusely with albedo rho, seen from inside;
-// `scale` shrinks the whole scene (the camera's near clip with it), `filter` picks the pixel filter.
+// `scale` shrinks the whole scene (the camera's near clip with it), `filter` picks the pixel filter;
+// `inside`: more shapes in the box (lossless specular ones keep every pixel at Le * sum of rho^k).
 inline std::string furnaceBox(const TempDir& dir, double rho, int maxDepth, const std::string& filter = "box",
-                              double scale = 1) {
+                              double scale = 1, const std::string& inside = "") {
     const std::string s = std::to_string(scale);
     return dir.write("furnace.xml", R"(<scene version="0.5.0">
   <integrator type="path"><integer name="maxDepth" value=")" +
@@ -75,6 +76,7 @@ inline std::string furnaceBox(const TempDir& dir, double rho, int maxDepth, cons
                                         std::to_string(rho) + R"("/></bsdf>
     <emitter type="area"><rgb name="radiance" value="1"/></emitter>
   </shape>
+)" + inside + R"(
 </scene>)");
 }
 

@@ -10,6 +10,7 @@
 
 #include "math/error.h"
 #include "math/rng.h"
+#include "manifold/chains_in_path.h"
 #include "math/von_mises_fisher.h"
 #include "mcmc/mutations/manifold_perturbation.h"
 #include "mcmc/path_space_chains.h"
@@ -127,7 +128,7 @@ TEST_CASE("manifold perturbation: the density sampled is the T(x -> y) computed,
         const auto paths = seedStates(*scene, 8, 40000, 6000);
         const ManifoldPerturbation mutation(*scene);
         Pcg32 rng(3, 9);
-        int suitable = 0, checked = 0, off = 0, walkFailed = 0, balanceOff = 0;
+        int suitable = 0, checked = 0, off = 0, walkFailed = 0, balanceOff = 0, eyeSideChains = 0, eyeSideOff = 0;
         double worst = 0;
         for (const auto& x : paths) {
             if (!mutation.suitable(x)) continue;
@@ -150,6 +151,22 @@ TEST_CASE("manifold perturbation: the density sampled is the T(x -> y) computed,
                 const double mismatch = test::proposalDensityMismatch(mutation, p);
                 worst = std::max(worst, mismatch);
                 off += mismatch > 1e-3;
+                // A chain walked with its eye end x_c held, where x_c has a surface: its light-to-eye G
+                // rebuilt with the light end x_b held instead must give the same factor (the perturbation
+                // turns the eye-held G into it with the R_imp / R_rad ratios of markov_path.h).
+                if (walks && stages->c > stages->b && stages->c < p.y.edges()) {
+                    const auto chain = manifoldChain(p.y.v, size_t(stages->b), size_t(stages->c));
+                    const auto J = chain ? chainJacobian(*chain) : std::nullopt;
+                    const auto T = J ? tangentMaps(*J) : std::nullopt;
+                    if (T) {
+                        double g = 1;
+                        for (int i = stages->b + 1; i < stages->c; ++i)
+                            g *= geometryTerm(p.y.v[size_t(i)], p.y.v[size_t(i) + 1]);
+                        const double lightHeld = g / std::abs(T->front().det());
+                        ++eyeSideChains;
+                        eyeSideOff += !(std::abs(mutation.walkedChainFactor(p.y, *stages) / lightHeld - 1) < 1e-4);
+                    }
+                }
                 const double reverseT = mutation.transitionDensity(p.y, x, *stages);
                 if (reverseT > 0 || p.reverseQ > 0)
                     balanceOff += !(std::abs(reverseT / (p.reverseQ * x.target) - 1) < 1e-9);
@@ -161,6 +178,9 @@ TEST_CASE("manifold perturbation: the density sampled is the T(x -> y) computed,
         CHECK(checked > 1000);
         CHECK(off < checked / 100 + 1);
         CHECK(balanceOff == 0);
+        INFO(eyeSideChains << " chains walked with a surface at their eye end, " << eyeSideOff
+                           << " of them with another factor held at the light end");
+        CHECK(eyeSideOff <= eyeSideChains / 100);
     }
     INFO(walked << " walks converged, " << notReversible << " of them not reversible");
     CHECK(walked > 2000);

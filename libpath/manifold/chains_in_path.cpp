@@ -27,6 +27,7 @@ bool isDelta(const PathVertex& v) { return v.type == VertexType::Surface && v.de
 } // namespace
 
 std::optional<ManifoldChain> manifoldChain(std::span<const PathVertex> V, size_t from, size_t to) {
+    if (from == to || from >= V.size() || to >= V.size()) return std::nullopt;
     const int step = to > from ? 1 : -1;
     const size_t n = (to > from ? to - from : from - to) + 1;
     ManifoldChain chain;

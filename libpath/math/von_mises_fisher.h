@@ -21,9 +21,9 @@ struct VonMisesFisher {
         const double P = 2 * Pi * peak; // kappa / (1 - e^{-2 kappa}) = P, an increasing function from 1/2
         if (!(P > 0.5)) return {0};
         if (!std::isfinite(P)) return {P};
-        double kappa = P; // exact once e^{-2 kappa} is negligible; Newton from above otherwise
-        for (int i = 0; i < 50; ++i) {
-            const double e = std::exp(-2 * kappa), g = kappa - P * (1 - e), dg = 1 - 2 * P * e;
+        double kappa = P; // exact once e^{-2 kappa} is negligible; Newton from above otherwise (g is convex)
+        for (int i = 0; i < 100; ++i) {
+            const double e = std::exp(-2 * kappa), g = kappa + P * std::expm1(-2 * kappa), dg = 1 - 2 * P * e;
             const double next = kappa - g / dg;
             if (!(next > 0) || std::abs(next - kappa) <= 1e-14 * kappa) break;
             kappa = next;
@@ -40,12 +40,10 @@ struct VonMisesFisher {
 
     // A direction around unit mean mu from two uniform numbers.
     [[nodiscard]] Vec3 sample(const Vec3& mu, double u1, double u2) const {
-        // 1 - cos theta = -log(u1 + (1 - u1) e^{-2 kappa}) / kappa, in [0, 2].
+        // 1 - cos theta = -log(u1 + (1 - u1) e^{-2 kappa}) / kappa, in [0, 2] (log1p and expm1: exact at
+        // tiny kappa too).
         double oneMinusCos = 2 * u1;
-        if (kappa > 0) {
-            const double e = std::exp(-2 * kappa);
-            oneMinusCos = std::min(2.0, -std::log(u1 + (1 - u1) * e) / kappa);
-        }
+        if (kappa > 0) oneMinusCos = std::min(2.0, -std::log1p((1 - u1) * std::expm1(-2 * kappa)) / kappa);
         const double cosTheta = 1 - oneMinusCos;
         const double sinTheta = std::sqrt(std::max(0.0, oneMinusCos * (2 - oneMinusCos)));
         const double phi = 2 * Pi * u2;

@@ -18,6 +18,8 @@ namespace {
 // reports (0 - 0.4 %).
 constexpr double ReverseWalkTolerance = 1e-4;
 
+constexpr double MaxConcentration = 1e8;
+
 int nonSpecularCount(const MarkovPath& x) {
     return int(std::count_if(x.v.begin(), x.v.end(), [](const PathVertex& v) { return !isSpecular(v); }));
 }
@@ -88,7 +90,10 @@ VonMisesFisher ManifoldPerturbation::kernel(const MarkovPath& path, const Stages
     // gives, converted back.
     const double toArea = at.convertDensity(1.0, next);
     const double p = toArea > 0 ? at.pdf(scene_, prev, next) / toArea : 0.0;
-    return VonMisesFisher::withPeak(lambda2_ * std::max(p, 1 / (4 * Pi)));
+    // At most MaxConcentration: directions rebuilt from float hit points are off by about 1e-7 rad, which
+    // a lobe of width 1 / sqrt(kappa) would turn into a density error of sqrt(kappa) 1e-7 (1e-3 here).
+    const VonMisesFisher lobe = VonMisesFisher::withPeak(lambda2_ * std::max(p, 1 / (4 * Pi)));
+    return {std::min(lobe.kappa, MaxConcentration)};
 }
 
 double ManifoldPerturbation::turnedChainDensity(const MarkovPath& path, const Stages& s, double pdfDir) const {
@@ -110,11 +115,27 @@ double ManifoldPerturbation::walkedChainFactor(const MarkovPath& path, const Sta
     const auto T = tangentMaps(*J);
     if (!T) return 0;
     const double det = std::abs(T->front().det());
+    if (!(det > 0) || !std::isfinite(det)) return 0;
     double g = 1;
     const int step = s.b > s.c ? 1 : -1;
     for (int i = s.c + step; i != s.b; i += step)
         g *= geometryTerm(path.v[size_t(i)], path.v[size_t(i + step)]);
-    return det > 0 && std::isfinite(det) ? g / det : 0.0;
+    if (s.c > s.b) {
+        // x_c on the eye side: G with x_c held is the eye-to-light term; the light-to-eye one f~ strips
+        // differs from it by prod R_rad / R_imp over the chain (markov_path.h: the two orientations' deltas
+        // differ by that ratio), which holds the refractions' eta^2 and, where a shading normal differs
+        // from the geometric one, the adjoint cosine ratio (Veach 1997, Sec. 5.3): not a constant.
+        for (int i = s.b + 1; i < s.c; ++i) {
+            const PathVertex& x = path.v[size_t(i)];
+            const auto imp = deltaImportance(path.v, size_t(i));
+            const auto rad = deltaLobe(x, x.directionTo(path.v[size_t(i) + 1]), scatterKind(x), Transport::Radiance);
+            if (!imp || !rad) return 0;
+            const double rRad = (rad->weight * rad->pdf).luminance();
+            if (!(rRad > 0)) return 0;
+            g *= (imp->weight * imp->pdf).luminance() / rRad;
+        }
+    }
+    return g / det;
 }
 
 double ManifoldPerturbation::transitionDensity(const MarkovPath& from, const MarkovPath& to, const Stages& s) const {
@@ -152,7 +173,8 @@ void ManifoldPerturbation::propose(const MarkovPath& x, Pcg32& rng, Proposal& ou
     if (std::abs(s->c - s->b) > 1) {
         const auto chain = manifoldChain(x.v, size_t(s->c), size_t(s->b));
         const auto target = manifoldVertex(out.y.v[size_t(s->b)].si);
-        if (!chain || !target) {
+        if (!chain || !target) { // a degenerate chart: no chain to walk
+            out.walk = WalkOutcome{WalkFailure::Singular, 0, size_t(std::abs(s->c - s->b)) + 1};
             out.failed = RejectCause::WalkFailed;
             return;
         }
@@ -186,6 +208,7 @@ void ManifoldPerturbation::propose(const MarkovPath& x, Pcg32& rng, Proposal& ou
     // vertex whose lobe no longer fits after rounding, has no density to accept it with.
     const double chainFactor = walkedChainFactor(out.y, *s);
     if (!(chainFactor > 0)) {
+        if (out.walk) out.walk->failure = WalkFailure::Singular;
         out.failed = RejectCause::WalkFailed;
         return;
     }

@@ -24,9 +24,8 @@
 //   T~(x -> y) = [D(w_o') |cos| / d^2 at x_{a+-1}' x prod G of the turned chain's later edges]
 //              x [prod G of the walked chain's edges except the one at x_c] / |det d x_{c-+1}' / d x_b'|,
 // the last determinant from the walked chain's tangent maps with x_c held. Where x_c lies on the eye
-// side the chain's G is taken with x_c held, which differs from the light-held one by the chain's
-// refraction ratios eta^2 only: a constant of the configuration that cancels between T(x -> y) and
-// T(y -> x).
+// side (the camera, often: it has no area to move), that G is the eye-to-light term; the factor times
+// prod R_imp / R_rad over the chain turns it into the light-to-eye one (walkedChainFactor).
 //
 // Not built yet: the endpoint position perturbation (light and aperture points move only through the
 // bidirectional mutation) and glossy chains (offset manifolds, ME Sec. 5.2).
@@ -65,11 +64,13 @@ public:
     // T~(from -> to) (header comment), from the two states alone; 0 when a Jacobian is singular.
     [[nodiscard]] double transitionDensity(const MarkovPath& from, const MarkovPath& to, const Stages& s) const;
 
+    // prod G(edges) / G(chain) of the chain between b and c, G(chain) the light-to-eye generalized geometry
+    // term (1 without specular vertices; 0 where the chain's Jacobian is singular).
+    [[nodiscard]] double walkedChainFactor(const MarkovPath& path, const Stages& s) const;
+
 private:
     // The stripped density of x_{a+-1} .. x_b given the direction density at x_a.
     [[nodiscard]] double turnedChainDensity(const MarkovPath& path, const Stages& s, double pdfDir) const;
-    // prod G / |det d x_{c-+1} / d x_b| of the chain between b and c (1 without specular vertices).
-    [[nodiscard]] double walkedChainFactor(const MarkovPath& path, const Stages& s) const;
 
     const Scene& scene_;
     SensorWindow sensor_;

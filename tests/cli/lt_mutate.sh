@@ -83,6 +83,10 @@ check "bidirectional,lens:2,caustic,lens-subpath: the table lists all four" \
 check "bidirectional,manifold: exit 0, walk columns" \
     '[ $code -eq 0 ] && grep -q "^manifold" "$tmp/me-err" && grep -q "walk failed" "$tmp/me-err"'
 check "bidirectional,manifold: lambda and the walk figures stored" '"$bin/lt-inspect" "$tmp/me.lts" | grep -q "lambda" && "$bin/lt-inspect" "$tmp/me.lts" | grep -q "walks.manifold"'
+"$bin/lt-mutate" "$src/scenes/cornell-spheres/scene.xml" --resolution 16x16 --strategies bidirectional,manifold \
+    --mutations 20000 --chains 4 --startup-samples 2000 -o "$tmp/me2.lts" --dump-paths "$tmp/me.ltp" --dump-every 100 -q
+check "MEMLT's dumped states: lt-inspect --manifold rebuilds and walks their chains" \
+    '"$bin/lt-inspect" "$tmp/me.ltp" --manifold | grep -q "walks to themselves converged"'
 "$bin/lt-mutate" "$scene" --strategies auto --mutations 2000 --chains 4 --startup-samples 500 -o "$tmp/auto.lts" \
     2> "$tmp/auto-err"
 check "auto without specular surfaces: caustic and multi-chain left out, with the reason" \

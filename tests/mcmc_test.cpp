@@ -508,17 +508,19 @@ TEST_CASE("each perturbation mixed with the bidirectional mutation converges to 
     }
 }
 
-TEST_CASE("strategy selection: auto leaves out caustic and multi-chain without specular chains, names are checked",
-          "[mcmc]") {
+TEST_CASE(
+    "strategy selection: auto leaves out caustic, multi-chain and manifold without specular chains, names are checked",
+    "[mcmc]") {
     SceneFeatures diffuse;
     diffuse.specularReason = "no delta BSDF";
     const auto a = chooseMutations("auto", diffuse);
     REQUIRE(a.chosen.size() == 2);
     CHECK(a.chosen[1].name == "lens");
-    CHECK(a.leftOut[0].find("caustic, multi-chain") != std::string::npos);
+    CHECK(a.leftOut[0].find("caustic, multi-chain, manifold") != std::string::npos);
     SceneFeatures glass;
     glass.specularChains = true;
-    CHECK(chooseMutations("auto", glass).chosen.size() == 4);
+    CHECK(chooseMutations("auto", glass).chosen.size() == 5);
+    CHECK(chooseMutations("auto", glass).chosen[4].name == "manifold");
     const auto w = chooseMutations("bidirectional,lens:2,caustic", glass);
     CHECK(w.chosen[1].weight == 2);
     CHECK(w.chosen[2].weight == 1);

@@ -14,17 +14,17 @@ namespace {
 std::string always(const SceneFeatures&) { return {}; }
 
 // The caustic and multi-chain perturbations move only paths through specular chains (Veach and Guibas
-// 1997): without one in the scene they could never propose anything.
+// 1997): without one in the scene they could never propose anything. The manifold perturbation would
+// move other paths too, but only as a lens perturbation with quarter-pixel steps; on scenes with
+// specular chains auto adds it to Veach's perturbations rather than replacing them (Jakob and Marschner's
+// MEMLT is bidirectional + manifold alone): at equal time that mix measured best on veach-bidir's egg
+// and matched MEMLT on caustic-mirror (pipelines/results/memlt/README.md).
 std::string needsSpecularChains(const SceneFeatures& features) {
     return features.specularChains ? std::string() : features.specularReason;
 }
 
 std::string optional(const SceneFeatures&) {
     return "optional (Veach 1997; Mitsuba dropped it for want of a gain); ask for it with --strategies";
-}
-
-std::string notInAutoYet(const SceneFeatures&) {
-    return "specular chains only so far (glossy chains to come); ask for it with --strategies";
 }
 
 std::string planned(const SceneFeatures&) { return "not built yet"; }
@@ -62,7 +62,7 @@ const MutationKind Kinds[] = {
      [](const Scene& s, const MutationSettings& m) -> std::unique_ptr<Mutation> {
          return std::make_unique<ManifoldPerturbation>(s, m.lambda);
      },
-     notInAutoYet},
+     needsSpecularChains},
     {"half-vector", "mutation", "half-vector space light transport (not built yet)", nullptr, planned},
     {"portal", "perturbation", "portal-based perturbation (not built yet)", nullptr, planned},
 };

@@ -2,7 +2,8 @@
 # plugs in here once. Needs $bin (the tools) and $scene; extra tool options come after the arguments.
 #   render_method METHOD OUT.lts SECONDS SEED [tool options...]
 # Methods: pt, bdpt (lt-seed); mlt, pssmlt, mmlt (lt-mutate --space path | primary | multiplexed; mlt
-# seeds itself with BDPT inside its time and takes --strategies auto, Veach's perturbations); memlt
+# seeds itself with BDPT inside its time and takes --strategies auto: Veach's perturbations, and the
+# manifold perturbation on scenes with specular chains); memlt
 # (path space with the bidirectional mutation and the manifold perturbation, as Jakob & Marschner define
 # MEMLT). Methods of tools that do not exist yet are refused by name.
 known_methods="pt bdpt mlt pssmlt mmlt memlt"

@@ -89,8 +89,8 @@ check "MEMLT's dumped states: lt-inspect --manifold rebuilds and walks their cha
     '"$bin/lt-inspect" "$tmp/me.ltp" --manifold | grep -q "walks to themselves converged"'
 "$bin/lt-mutate" "$scene" --strategies auto --mutations 2000 --chains 4 --startup-samples 500 -o "$tmp/auto.lts" \
     2> "$tmp/auto-err"
-check "auto without specular surfaces: caustic and multi-chain left out, with the reason" \
-    'grep -q "left out: caustic, multi-chain perturbations: no delta" "$tmp/auto-err"'
+check "auto without specular surfaces: caustic, multi-chain and manifold left out, with the reason" \
+    'grep -q "left out: caustic, multi-chain, manifold perturbations: no delta" "$tmp/auto-err"'
 check "auto without specular surfaces: the lens perturbation runs" 'grep -q "^lens " "$tmp/auto-err"'
 check "auto leaves out the lens-subpath mutation and says how to ask for it" \
     'grep -q "left out: lens-subpath mutation: optional.*--strategies" "$tmp/auto-err"'

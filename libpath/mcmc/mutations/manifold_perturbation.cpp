@@ -129,10 +129,8 @@ double ManifoldPerturbation::walkedChainFactor(const MarkovPath& path, const Sta
             const PathVertex& x = path.v[size_t(i)];
             const auto imp = deltaImportance(path.v, size_t(i));
             const auto rad = deltaLobe(x, x.directionTo(path.v[size_t(i) + 1]), scatterKind(x), Transport::Radiance);
-            if (!imp || !rad) return 0;
-            const double rRad = (rad->weight * rad->pdf).luminance();
-            if (!(rRad > 0)) return 0;
-            g *= (imp->weight * imp->pdf).luminance() / rRad;
+            if (!imp || !rad || !(rad->pdf > 0)) return 0;
+            g *= eyeSideDeltaDensity(*imp, *rad, 1.0) / rad->pdf; // R_imp / R_rad, the lobe fixed as in followChain
         }
     }
     return g / det;

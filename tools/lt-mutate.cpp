@@ -107,6 +107,9 @@ int main(int argc, char** argv) {
             throw lt::Error("--strategies selects path-space mutations; --space " + space +
                             " has its own (large and small steps, --large-step)");
         if (space != "path" && app.count("--lambda")) throw lt::Error("--lambda is for --space path");
+        // CLI11's range check lets NaN through; refuse it before the seeding, not after.
+        if (!std::isfinite(lambda))
+            throw lt::Error("--lambda must be a positive number, got " + std::to_string(lambda));
         if (space == "path" && (app.count("--large-step") || app.count("--max-length-unbounded")))
             throw lt::Error("--large-step and --max-length-unbounded are for --space primary and multiplexed");
         if (space != "path" && app.count("--refine-b"))

@@ -39,7 +39,8 @@ RejectCause rejectionOf(WalkFailure f) {
 
 ManifoldPerturbation::ManifoldPerturbation(const Scene& scene, double lambda)
     : scene_(scene), sensor_(scene.camera), lambda2_(lambda * lambda) {
-    if (!(lambda > 0) || !std::isfinite(lambda)) throw Error("the manifold perturbation's lambda must be positive");
+    if (!(lambda > 0) || !std::isfinite(lambda))
+        throw Error("the manifold perturbation's lambda must be a positive number, got " + std::to_string(lambda));
 }
 
 bool ManifoldPerturbation::suitable(const MarkovPath& x) const {

@@ -229,7 +229,7 @@ void checkVisits(const Scene& scene, const std::vector<double>& expected, const 
             double z = 0;
             std::string where;
         } bins, marginals;
-        double chi2 = 0, worstRelativeError = 0;
+        double chi2 = 0, worstRelativeError = 0, uniformZ = 0;
         std::ostringstream table;
         for (const auto& region : regions) {
             const bool single = region.bins.size() == 1;
@@ -246,6 +246,9 @@ void checkVisits(const Scene& scene, const std::vector<double>& expected, const 
                 s2 += (f - mean) * (f - mean);
             const double se = std::sqrt(s2 / (chains - 1) / chains);
             const double z = (mean - p) / se;
+            // How far a chain that visited every bin equally often would land from the tabulation, in
+            // these standard errors: the test's power against a gross error.
+            uniformZ = std::max(uniformZ, std::abs(double(region.bins.size()) / Bins - p) / se);
             if (single) {
                 chi2 += z * z;
                 worstRelativeError = std::max(worstRelativeError, se / p);
@@ -267,6 +270,9 @@ void checkVisits(const Scene& scene, const std::vector<double>& expected, const 
         // The checks must have power: every bin's probability known from the chains to 12 % or better (about
         // 8 % in the least likely bin).
         CHECK(worstRelativeError < 0.12);
+        // ... and the tabulated distribution is told apart from a uniform visit by far more than 5 errors.
+        INFO("a uniform visit would be off by " << uniformZ << " standard errors");
+        CHECK(uniformZ > 10);
         // Every mutation of the mix moved the chains often (not just proposed).
         for (size_t m = 0; m < mix.size(); ++m) {
             INFO(stats.strategies.strategies()[m]);

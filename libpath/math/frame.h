@@ -34,6 +34,13 @@ struct Frame {
     [[nodiscard]] Vec3 toWorld(const Vec3& v) const { return s * v.x + t * v.y + n * v.z; }
 };
 
+// The unit direction at polar angle theta (given by its cosine and sine, so that callers near theta = 0
+// keep their precision) and azimuth phi around the unit `axis`.
+inline Vec3 directionAround(const Vec3& axis, double cosTheta, double sinTheta, double phi) {
+    return normalize(
+        Frame::fromNormal(axis).toWorld(Vec3(sinTheta * std::cos(phi), sinTheta * std::sin(phi), cosTheta)));
+}
+
 // Spherical-coordinate helpers for directions expressed in a local frame (z = normal).
 inline double cosTheta(const Vec3& w) { return w.z; }
 inline double absCosTheta(const Vec3& w) { return std::abs(w.z); }

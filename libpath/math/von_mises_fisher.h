@@ -46,9 +46,7 @@ struct VonMisesFisher {
         if (kappa > 0) oneMinusCos = std::min(2.0, -std::log1p((1 - u1) * std::expm1(-2 * kappa)) / kappa);
         const double cosTheta = 1 - oneMinusCos;
         const double sinTheta = std::sqrt(std::max(0.0, oneMinusCos * (2 - oneMinusCos)));
-        const double phi = 2 * Pi * u2;
-        const Vec3 local(sinTheta * std::cos(phi), sinTheta * std::sin(phi), cosTheta);
-        return normalize(Frame::fromNormal(mu).toWorld(local));
+        return directionAround(mu, cosTheta, sinTheta, 2 * Pi * u2);
     }
 };
 

@@ -18,8 +18,7 @@ double lobeProbability(const std::vector<PathVertex>& v, size_t i) {
 } // namespace
 
 Vec3 rotateDirection(const Vec3& dir, double theta, double phi) {
-    const double s = std::sin(theta);
-    return normalize(Frame::fromNormal(dir).toWorld(Vec3(s * std::cos(phi), s * std::sin(phi), std::cos(theta))));
+    return directionAround(dir, std::cos(theta), std::sin(theta), phi);
 }
 
 ReciprocalKernel rasterRadii(const PerspectiveCamera& camera) {

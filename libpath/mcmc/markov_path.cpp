@@ -1,5 +1,7 @@
 #include "mcmc/markov_path.h"
 
+#include <algorithm>
+
 #include "bsdf/shading_correction.h"
 #include "math/error.h"
 #include "path/path_record.h"
@@ -46,6 +48,10 @@ std::optional<RejectCause> evaluatePath(const Scene& scene, MarkovPath& path, co
     const double cosCam = dot(dir, cam.forward());
     if (!(cosCam > 0) || dist * cosCam < cam.nearClip()) return RejectCause::LeftImage;
 
+    // A point or spot light seen by the pinhole directly or through specular vertices only: every vertex
+    // is fixed by the others, a path space of measure zero that no pixel integral sees.
+    if (v[0].isDeltaLight() && std::all_of(v.begin() + 1, v.end() - 1, isSpecular))
+        return RejectCause::ZeroContribution;
     Spectrum f = v[0].Le(scene, v[1]);
     for (size_t i = 1; i < k; ++i) {
         PathVertex& x = v[i];

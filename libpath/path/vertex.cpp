@@ -81,6 +81,8 @@ Spectrum PathVertex::Le(const Scene& scene, const PathVertex& toward) const {
         return sum;
     }
     if (!emitter) return {};
+    if (type == VertexType::Light && (emitter->flags() & EmitterDeltaPosition))
+        return emitter->intensity(directionTo(toward));
     return emitter->evalSurface(si.p, si.ng, directionTo(toward));
 }
 

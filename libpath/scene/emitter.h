@@ -67,6 +67,13 @@ public:
     [[nodiscard]] virtual EmissionSample sampleEmission(const Vec2& uPos, const Vec2& uDir) const = 0;
     virtual void pdfEmission(const Vec3& p, const Vec3& n, const Vec3& d, double& pdfPos, double& pdfDir) const = 0;
 
+    // Radiant intensity of a delta-position emitter (point, spot) in the unit direction d; zero for the
+    // others. A path starting at such an emitter carries it where a surface emitter carries radiance
+    // (the position's delta stripped, as the area densities' "counts as 1").
+    [[nodiscard]] virtual Spectrum intensity(const Vec3& d) const {
+        (void)d;
+        return {};
+    }
     // Radiance leaving a point p (normal n) of a surface emitter in direction d (zero behind it).
     [[nodiscard]] virtual Spectrum evalSurface(const Vec3& p, const Vec3& n, const Vec3& d) const {
         (void)p, (void)n, (void)d;

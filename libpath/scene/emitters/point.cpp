@@ -44,6 +44,7 @@ public:
         pdfDir = warp::squareToUniformSpherePdf();
     }
 
+    [[nodiscard]] Spectrum intensity(const Vec3&) const override { return intensity_; }
     [[nodiscard]] Spectrum power() const override { return intensity_ * (4 * Pi); }
 
 private:

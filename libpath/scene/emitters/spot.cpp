@@ -33,6 +33,8 @@ public:
         return ds;
     }
 
+    [[nodiscard]] Spectrum intensity(const Vec3& d) const override { return intensity_ * falloff(d); }
+
     // Delta position: the discrete choice counts as 1 (emitter.h).
     [[nodiscard]] double pdfDirect(const Vec3&, const Vec3&, const Vec3&, const Vec3&) const override { return 1; }
 

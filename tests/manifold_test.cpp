@@ -526,3 +526,108 @@ TEST_CASE("walk statistics count causes and print a table", "[manifold]") {
     CHECK(out.str().find("total internal reflection") != std::string::npos);
     CHECK(out.str().find("66.7 %") != std::string::npos);
 }
+
+namespace {
+
+// Newton's method on a chain of planar vertices with both ends fixed: move the interior (in each plane's
+// chart) until every constraint value equals `target`. Planes have constant frames, so the chart step is
+// exact.
+void solveHeld(ManifoldChain& chain, const std::vector<Vec2>& target) {
+    for (int it = 0; it < 60; ++it) {
+        const auto J = chainJacobian(chain);
+        REQUIRE(J);
+        std::vector<std::array<double, 2>> r(J->values.size());
+        double err = 0;
+        for (size_t i = 0; i < r.size(); ++i) {
+            r[i] = {target[i].x - J->values[i].x, target[i].y - J->values[i].y};
+            err = std::max({err, std::abs(r[i][0]), std::abs(r[i][1])});
+        }
+        if (err < 1e-15) return;
+        const auto lu = BlockTridiagonalLU::factor(J->A);
+        REQUIRE(lu);
+        const auto d = lu->solve(r);
+        for (size_t i = 0; i < d.size(); ++i)
+            chain[i + 1].p += chain[i + 1].dpdu * d[i][0] + chain[i + 1].dpdv * d[i][1];
+    }
+}
+
+// |det d x_held / d o_held| of a chain with fixed ends by central differences: each held vertex's offset
+// moved by +-h per component, the others' constraint values kept, the chain solved again.
+double heldDeterminantByDifferences(const ManifoldChain& chain, const std::vector<size_t>& held) {
+    const auto J = chainJacobian(chain);
+    REQUIRE(J);
+    const size_t n = 2 * held.size();
+    std::vector<double> D(n * n);
+    const double h = 1e-6;
+    for (size_t c = 0; c < n; ++c) {
+        std::array<ManifoldChain, 2> moved{chain, chain};
+        for (int s = 0; s < 2; ++s) {
+            std::vector<Vec2> target = J->values;
+            Vec2& o = target[held[c / 2] - 1];
+            (c % 2 == 0 ? o.x : o.y) += s == 0 ? h : -h;
+            solveHeld(moved[size_t(s)], target);
+        }
+        for (size_t r = 0; r < n; ++r) {
+            const ManifoldVertex& v = chain[held[r / 2]];
+            const Vec3 dp = moved[0][held[r / 2]].p - moved[1][held[r / 2]].p;
+            D[r * n + c] = dot(dp, r % 2 == 0 ? v.dpdu : v.dpdv) / (2 * h);
+        }
+    }
+    // Gaussian elimination with partial pivoting.
+    double det = 1;
+    for (size_t k = 0; k < n; ++k) {
+        size_t p = k;
+        for (size_t i = k + 1; i < n; ++i)
+            if (std::abs(D[i * n + k]) > std::abs(D[p * n + k])) p = i;
+        if (p != k) {
+            for (size_t j = 0; j < n; ++j)
+                std::swap(D[k * n + j], D[p * n + j]);
+            det = -det;
+        }
+        det *= D[k * n + k];
+        for (size_t i = k + 1; i < n; ++i) {
+            const double f = D[i * n + k] / D[k * n + k];
+            for (size_t j = k; j < n; ++j)
+                D[i * n + j] -= f * D[k * n + j];
+        }
+    }
+    return std::abs(det);
+}
+
+} // namespace
+
+TEST_CASE("the offset chart's determinant (ME Fig. 11) matches differences of solved glossy chains", "[manifold]") {
+    // A zigzag between tilted planes: x_a -> d1 -> g1 -> x_b -> g2 -> x_c, x_b moving freely (its rows
+    // the identity). With x_b fixed the two sides decouple, so |d(x_b, x_held) / d(x_b, o)| is the
+    // product of each side's |d x_held / d o_held| with its ends fixed, which Newton's method on the
+    // constraints gives by differences. d1 is a delta vertex (deleted from the chart) or a held glossy
+    // one (in it: the LU determinant's branch).
+    const auto plane = [](const Vec3& p, const Vec3& n) {
+        const Vec3 nn = normalize(n);
+        const Frame f = Frame::fromNormal(nn);
+        return chartPoint(p, f.s, f.t, nn);
+    };
+    ManifoldChain chain{pointVertex({0, 0, 3}, normalize(Vec3(0.2, 0, -3))),
+                        plane({0.2, 0, 0}, {0.1, 0.05, 1}),
+                        plane({0.9, 0.1, 1.2}, {-0.2, 0, -1}),
+                        plane({1.6, 0.05, 0.1}, {0.1, -0.1, 1}),
+                        plane({2.4, 0.2, 1.3}, {0.15, 0.1, -1}),
+                        pointVertex({3.2, 0.1, 0.2}, normalize(Vec3(-0.8, -0.1, 1.1)))};
+    for (size_t j = 1; j + 1 < chain.size(); ++j) {
+        REQUIRE(setScattering(chain[j], chain[j - 1], chain[j + 1], std::nullopt, false));
+        REQUIRE(chain[j].scatter == Scatter::Reflection);
+    }
+    const ManifoldChain side1(chain.begin(), chain.begin() + 4), side2(chain.begin() + 3, chain.end());
+    for (const bool d1Specular : {true, false}) {
+        CAPTURE(d1Specular);
+        const std::vector<bool> specular{false, d1Specular, false, false, false, false};
+        const auto J = offsetChartDeterminant(chain, 3, specular);
+        REQUIRE(J);
+        const double byDifferences =
+            heldDeterminantByDifferences(side1, d1Specular ? std::vector<size_t>{2} : std::vector<size_t>{1, 2}) *
+            heldDeterminantByDifferences(side2, {1});
+        CHECK(*J == Approx(byDifferences).epsilon(1e-5));
+    }
+    // Without held vertices the chart is x_b alone.
+    CHECK(*offsetChartDeterminant(chain, 3, std::vector<bool>(6, true)) == 1);
+}

@@ -509,14 +509,25 @@ TEST_CASE("each perturbation mixed with the bidirectional mutation converges to 
 }
 
 TEST_CASE(
-    "strategy selection: auto leaves out caustic, multi-chain and manifold without specular chains, names are checked",
+    "strategy selection: auto leaves out caustic, multi-chain and manifold without specular chains (manifold also "
+    "without glossy ones), names are checked",
     "[mcmc]") {
     SceneFeatures diffuse;
     diffuse.specularReason = "no delta BSDF";
     const auto a = chooseMutations("auto", diffuse);
     REQUIRE(a.chosen.size() == 2);
     CHECK(a.chosen[1].name == "lens");
-    CHECK(a.leftOut[0].find("caustic, multi-chain, manifold") != std::string::npos);
+    const auto saysWhy = [&](const std::string& text) {
+        return std::any_of(a.leftOut.begin(), a.leftOut.end(),
+                           [&](const std::string& why) { return why.find(text) != std::string::npos; });
+    };
+    CHECK(saysWhy("caustic, multi-chain perturbations: no delta BSDF"));
+    CHECK(saysWhy("manifold perturbation: no delta or glossy BSDF"));
+    SceneFeatures glossy = diffuse;
+    glossy.glossySurfaces = true;
+    const auto g = chooseMutations("auto", glossy);
+    REQUIRE(g.chosen.size() == 3);
+    CHECK(g.chosen[2].name == "manifold");
     SceneFeatures glass;
     glass.specularChains = true;
     CHECK(chooseMutations("auto", glass).chosen.size() == 5);

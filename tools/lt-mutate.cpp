@@ -17,8 +17,13 @@
 #include "mcmc/path_space_chains.h"
 #include "mcmc/primary_space_chains.h"
 #include "mcmc/mutation_selection.h"
+#include "mcmc/mutations/manifold_perturbation.h"
 
 using lt::tool::formatSeconds;
+
+// Proposals of the manifold perturbation's pre-run (ME App. A1; Mitsuba averages its first 50 000
+// samples, as here): a fraction of a second.
+constexpr size_t NormalChangePreRun = 50000;
 
 int main(int argc, char** argv) {
     CLI::App app{"lt-mutate: render a Mitsuba scene with Markov chains. --space path (default) is Veach-Guibas "
@@ -180,20 +185,24 @@ int main(int argc, char** argv) {
         // Path space: the strategies, and the longest path the bidirectional mutation may build.
         const int maxEdges = ps.paths.maxDepth > 0 ? ps.paths.maxDepth : unbounded;
         lt::MutationChoice choice;
+        lt::SceneFeatures features;
+        bool usesManifold = false;
+        std::optional<lt::NormalChange> preRun; // the manifold perturbation's pre-run, when it had one
         if (pathSpace) {
             params.erase("large_step");
             params.erase("small_step");
             params["refine_b"] = refineB;
             if (!seeds.paths.empty()) params.erase("startup_samples");
-            choice = lt::chooseMutations(strategies, lt::analyzeScene(*scene));
+            features = lt::analyzeScene(*scene);
+            choice = lt::chooseMutations(strategies, features);
             nlohmann::json list = nlohmann::json::array();
             for (const auto& e : choice.chosen)
                 list.push_back({{"name", e.name}, {"weight", e.weight}});
             params["strategies"] = list;
             params["max_length"] = maxEdges;
-            if (std::any_of(choice.chosen.begin(), choice.chosen.end(),
-                            [](const auto& e) { return e.name == "manifold"; }))
-                params["lambda"] = lambda;
+            usesManifold = std::any_of(choice.chosen.begin(), choice.chosen.end(),
+                                       [](const auto& e) { return e.name == "manifold"; });
+            if (usesManifold) params["lambda"] = lambda;
             for (const auto& why : choice.leftOut)
                 if (!quiet) std::cerr << "lt-mutate: left out: " << why << '\n';
             if (!quiet && ps.paths.maxDepth < 0)
@@ -233,9 +242,29 @@ int main(int argc, char** argv) {
                     std::cerr << "lt-mutate: seeded with BDPT (" << startupSamples << " samples): b = " << seeds.b.b()
                               << '\n';
             }
+            lt::MutationSettings settings{maxEdges, lambda};
+            if (usesManifold && features.glossySurfaces) {
+                // ME App. A1: Delta-theta, which sets how often a glossy vertex is treated as specular, is
+                // measured before the chains start and then held (an adaptive chain would not be Markov).
+                progress.update(-1, "manifold pre-run");
+                std::vector<lt::MarkovPath> states;
+                for (size_t i = 0; i < seeds.paths.size() && states.size() < 4096; ++i) {
+                    try {
+                        states.push_back(lt::pathFromRecord(*scene, seeds.paths[i], i));
+                    } catch (const lt::Error&) { // a seed the scene cannot re-create is left to the run to report
+                    }
+                }
+                const auto change = lt::measureNormalChange(*scene, lambda, states, NormalChangePreRun, seed);
+                settings.normalChange = change.radians;
+                preRun = change;
+                if (!quiet)
+                    std::cerr << "lt-mutate: manifold pre-run: " << NormalChangePreRun << " proposals, "
+                              << change.measured << " reached a path; mean normal change at x_b "
+                              << change.radians * 180 / lt::Pi << " degrees (held for the run)\n";
+            }
             std::vector<std::unique_ptr<lt::Mutation>> owned;
             std::vector<lt::WeightedMutation> mix;
-            lt::makeMutations(choice, *scene, {maxEdges, lambda}, owned, mix);
+            lt::makeMutations(choice, *scene, settings, owned, mix);
             stats = lt::runPathSpaceChains(*scene, seeds, mix, rs, ps.paths, refineB, film, onProgress,
                                            &lt::tool::stopRequested(), onSnapshot, dump);
             if (dumpWriter) dumpWriter->finish();
@@ -270,6 +299,11 @@ int main(int argc, char** argv) {
         writer.writeStats(stats.strategies.table());
         for (const auto& t : stats.strategies.walkTables())
             writer.writeStats(t);
+        if (preRun)
+            writer.writeStats(
+                lt::file::valueTable("manifold_prerun", {{"proposals", double(NormalChangePreRun)},
+                                                         {"reached_a_path", double(preRun->measured)},
+                                                         {"normal_change_degrees", preRun->radians * 180 / lt::Pi}}));
         if (!pathSpace && ps.space == lt::PrimarySpace::Multiplexed) {
             lt::file::StatTable lengths{
                 "path_lengths", {"b", "b_standard_error", "b_samples", "chains_started", "mutations"}, {}, {}};

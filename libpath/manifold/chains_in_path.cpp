@@ -41,7 +41,8 @@ std::optional<ManifoldChain> manifoldChain(std::span<const PathVertex> V, size_t
     for (size_t j = 1; j + 1 < n; ++j) {
         const Bsdf* bsdf = V[from + size_t(step * int(j))].bsdf;
         const auto eta = bsdf ? bsdf->eta() : std::nullopt;
-        if (!setScattering(chain[j], chain[j - 1], chain[j + 1], eta, true)) return std::nullopt;
+        if (!setScattering(chain[j], chain[j - 1], chain[j + 1], eta, isDelta(V[from + size_t(step * int(j))])))
+            return std::nullopt;
     }
     return chain;
 }

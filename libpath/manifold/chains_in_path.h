@@ -28,8 +28,9 @@ struct ChainInPath {
 };
 
 // The vertices path[from] .. path[to] (either order; `from` first) in the manifold's charts, the
-// interior set up as specular (setScattering): the chain a walk pinned at `from` moves. Nothing where a
-// chart is degenerate or a constraint undefined.
+// interior set up by setScattering: delta vertices specular (offset 0), the others holding their
+// current offset (glossy vertices treated as specular, ME Sec. 5.2): the chain a walk pinned at `from`
+// moves. Nothing where a chart is degenerate or a constraint undefined.
 [[nodiscard]] std::optional<ManifoldChain> manifoldChain(std::span<const PathVertex> path, size_t from, size_t to);
 
 // The chains of a path given by its vertices, light to eye (PathVertex::delta marks the specular ones);

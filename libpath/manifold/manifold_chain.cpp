@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include <Eigen/Dense>
+
 #include "manifold/specular_constraint.h"
 #include "path/vertex.h"
 
@@ -39,6 +41,40 @@ std::optional<std::vector<Mat2>> tangentMaps(const ChainJacobian& J) {
         for (const auto& r : t.m)
             if (!std::isfinite(r[0]) || !std::isfinite(r[1])) return std::nullopt;
     return T;
+}
+
+std::optional<double> offsetChartDeterminant(std::span<const ManifoldVertex> chain, size_t m,
+                                             const std::vector<bool>& specular) {
+    if (m == 0 || m + 1 >= chain.size() || specular.size() != chain.size()) return std::nullopt;
+    std::vector<size_t> kept; // interior vertices of the chart (x_m, o): m and those holding an offset
+    for (size_t j = 1; j + 1 < chain.size(); ++j)
+        if (j == m || !specular[j]) kept.push_back(j);
+    if (kept.size() == 1) return 1.0;
+    auto J = chainJacobian(chain);
+    if (!J) return std::nullopt;
+    const size_t row = m - 1; // rows of A are the interior vertices 2 .. k-1
+    J->A.A[row] = Mat2{};
+    J->A.B[row] = Mat2::identity();
+    J->A.C[row] = Mat2{};
+    const auto lu = BlockTridiagonalLU::factor(J->A);
+    if (!lu) return std::nullopt;
+    double det = 0;
+    if (kept.size() == J->A.size()) {
+        det = 1 / std::abs(lu->determinant());
+    } else {
+        const auto n = Eigen::Index(2 * kept.size());
+        Eigen::MatrixXd inv(n, n);
+        for (size_t c = 0; c < kept.size(); ++c) {
+            const auto column = lu->inverseColumn(kept[c] - 1);
+            for (size_t r = 0; r < kept.size(); ++r)
+                for (int i = 0; i < 2; ++i)
+                    for (int k = 0; k < 2; ++k)
+                        inv(Eigen::Index(2 * r) + i, Eigen::Index(2 * c) + k) =
+                            column[kept[r] - 1].m[size_t(i)][size_t(k)];
+        }
+        det = std::abs(inv.determinant());
+    }
+    return std::isfinite(det) && det > 0 ? std::optional(det) : std::nullopt;
 }
 
 double geometryTerm(const ManifoldVertex& a, const ManifoldVertex& b) {

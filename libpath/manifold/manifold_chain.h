@@ -35,6 +35,15 @@ struct ChainJacobian {
 // surface, or a constraint is undefined.
 [[nodiscard]] std::optional<double> generalizedGeometryTerm(std::span<const ManifoldVertex> chain);
 
+// ME Sec. 5.2 (Fig. 11): |det d(x_m, x_held) / d(x_m, o_held)| for a chain x_1 .. x_k whose interior
+// vertex m moves freely and whose other interior vertices keep their constraint values: 0 where
+// specular[j], the offset o_j where not (glossy vertices treated as specular). A over the interior
+// with m's rows replaced by [0 I 0] is d(x_m, c) / dx; its inverse without the specular vertices'
+// rows and columns maps (x_m, o) to (x_m, x_held). 1 when no vertex holds an offset; nothing when A is
+// singular or a constraint is undefined. `specular` has one entry per chain vertex (endpoints ignored).
+[[nodiscard]] std::optional<double> offsetChartDeterminant(std::span<const ManifoldVertex> chain, size_t m,
+                                                           const std::vector<bool>& specular);
+
 // The geometry term between two chain vertices (path/vertex.h's geometryTerm: geometric normals,
 // a point without surface contributes no cosine).
 [[nodiscard]] double geometryTerm(const ManifoldVertex& a, const ManifoldVertex& b);

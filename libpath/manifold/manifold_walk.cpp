@@ -81,6 +81,23 @@ std::optional<SurfaceInteraction> traceSurface(const Scene& scene, const Manifol
 
 } // namespace
 
+std::variant<Vec3, WalkFailure> scatterHeld(const ManifoldVertex& v, const Vec3& wi, const Vec3& oldWi,
+                                            const Vec3& oldNg) {
+    // The configuration must not change: the same side of the surface as before.
+    if (dot(wi, v.ng) * dot(oldWi, oldNg) <= 0) return WalkFailure::LeftSurface;
+    const auto m = microfacetNormal(v, v.offset);
+    if (!m) return WalkFailure::LeftSurface;
+    if (v.scatter == Scatter::Reflection) {
+        const Vec3 wo = reflect(wi, *m);
+        if (dot(wo, v.ng) * dot(wi, v.ng) <= 0) return WalkFailure::LeftSurface;
+        return wo;
+    }
+    const auto wo = refract(wi, *m, v.eta);
+    if (!wo) return WalkFailure::TotalInternalReflection;
+    if (dot(*wo, v.ng) * dot(wi, v.ng) >= 0) return WalkFailure::LeftSurface;
+    return *wo;
+}
+
 PropagateResult propagateChain(const Scene& scene, std::span<const ManifoldVertex> X, const Vec3& toward,
                                const ManifoldVertex& plane, double collapse) {
     PropagateResult r;
@@ -102,20 +119,9 @@ PropagateResult propagateChain(const Scene& scene, std::span<const ManifoldVerte
         v->scatter = old.scatter;
         v->eta = old.eta;
         v->offset = old.offset;
-        const Vec3 wi = -dir;
-        // The configuration must not change: the same side of the surface as before.
-        if (dot(wi, v->ng) * dot(X[j - 1].p - old.p, old.ng) <= 0) return {WalkFailure::LeftSurface, {}};
-        const auto m = microfacetNormal(*v, v->offset);
-        if (!m) return {WalkFailure::LeftSurface, {}};
-        if (v->scatter == Scatter::Reflection) {
-            dir = reflect(wi, *m);
-            if (dot(dir, v->ng) * dot(wi, v->ng) <= 0) return {WalkFailure::LeftSurface, {}};
-        } else {
-            const auto t = refract(wi, *m, v->eta);
-            if (!t) return {WalkFailure::TotalInternalReflection, {}};
-            dir = *t;
-            if (dot(dir, v->ng) * dot(wi, v->ng) >= 0) return {WalkFailure::LeftSurface, {}};
-        }
+        const auto scattered = scatterHeld(*v, -dir, X[j - 1].p - old.p, old.ng);
+        if (const auto* failure = std::get_if<WalkFailure>(&scattered)) return {*failure, {}};
+        dir = std::get<Vec3>(scattered);
         r.chain.push_back(*v);
     }
     // The last segment ends on the virtual plane, not on the scene.

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <span>
+#include <variant>
 #include <string_view>
 
 #include "manifold/manifold_chain.h"
@@ -54,6 +55,15 @@ struct WalkResult {
 [[nodiscard]] WalkResult walkManifold(const Scene& scene, std::span<const ManifoldVertex> chain,
                                       const ManifoldVertex& target, WalkEnd moving = WalkEnd::Last,
                                       const WalkSettings& settings = {});
+
+// The scattering of an interior chain vertex v (scatter, eta and offset set; its new position) for the
+// direction wi (unit, away from v): reflected or refracted about the microfacet normal its held offset
+// gives in v's frame (m = n for a specular vertex). The configuration must stay what it was: wi on the
+// side of the geometric normal that the old vertex's incoming direction oldWi was on (oldNg its
+// normal), and the outgoing direction on the reflected or transmitted side. The one place the walk's
+// corrector and MEMLT's propagation through held vertices scatter.
+[[nodiscard]] std::variant<Vec3, WalkFailure> scatterHeld(const ManifoldVertex& v, const Vec3& wi, const Vec3& oldWi,
+                                                          const Vec3& oldNg);
 
 struct PropagateResult {
     WalkFailure failure = WalkFailure::None;

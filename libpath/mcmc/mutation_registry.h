@@ -16,6 +16,7 @@ namespace lt {
 struct MutationSettings {
     int maxEdges = -1;  // bound on path edges (the bidirectional mutation and lens subpaths keep to it)
     double lambda = 50; // the manifold perturbation's lobe peak relative to the BSDF's (ME Sec. 5.1)
+    double normalChange = Pi / 180; // its Delta-theta (ME App. A1; measureNormalChange), radians
 };
 
 struct MutationKind {

@@ -93,7 +93,14 @@ check "MEMLT's dumped states: lt-inspect --manifold rebuilds and walks their cha
 "$bin/lt-mutate" "$scene" --strategies auto --mutations 2000 --chains 4 --startup-samples 500 -o "$tmp/auto.lts" \
     2> "$tmp/auto-err"
 check "auto without specular surfaces: caustic, multi-chain and manifold left out, with the reason" \
-    'grep -q "left out: caustic, multi-chain, manifold perturbations: no delta" "$tmp/auto-err"'
+    'grep -q "left out: caustic, multi-chain perturbations: no delta" "$tmp/auto-err" &&
+     grep -q "left out: manifold perturbation: no delta or glossy" "$tmp/auto-err"'
+"$bin/lt-mutate" "$src/scenes/glossy-caustic/scene.xml" --resolution 16x12 --strategies auto --mutations 20000 \
+    --chains 4 --startup-samples 2000 -o "$tmp/glossy.lts" 2> "$tmp/glossy-err"; code=$?
+check "auto on glossy surfaces: the manifold perturbation with its pre-run, printed and stored" \
+    '[ $code -eq 0 ] && grep -q "^manifold " "$tmp/glossy-err" &&
+     grep -q "manifold pre-run: 50000 proposals" "$tmp/glossy-err" &&
+     "$bin/lt-inspect" "$tmp/glossy.lts" | grep -q "normal_change_degrees"'
 check "auto without specular surfaces: the lens perturbation runs" 'grep -q "^lens " "$tmp/auto-err"'
 check "auto leaves out the lens-subpath mutation and says how to ask for it" \
     'grep -q "left out: lens-subpath mutation: optional.*--strategies" "$tmp/auto-err"'

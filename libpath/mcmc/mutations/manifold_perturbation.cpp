@@ -4,6 +4,8 @@
 
 #include "manifold/chains_in_path.h"
 #include "math/error.h"
+#include "math/numeric.h"
+#include "manifold/specular_constraint.h"
 #include "path/scatter.h"
 
 namespace lt {
@@ -37,10 +39,38 @@ RejectCause rejectionOf(WalkFailure f) {
 
 } // namespace
 
-ManifoldPerturbation::ManifoldPerturbation(const Scene& scene, double lambda)
-    : scene_(scene), sensor_(scene.camera), lambda2_(lambda * lambda) {
+ManifoldPerturbation::ManifoldPerturbation(const Scene& scene, double lambda, double normalChange)
+    : scene_(scene), sensor_(scene.camera), lambda2_(lambda * lambda), normalChange_(normalChange) {
     if (!(lambda > 0) || !std::isfinite(lambda))
         throw Error("the manifold perturbation's lambda must be a positive number, got " + std::to_string(lambda));
+    if (!(normalChange > 0) || !(normalChange <= Pi))
+        throw Error("the manifold perturbation's mean normal change must lie in (0, pi], got " +
+                    std::to_string(normalChange));
+}
+
+double ManifoldPerturbation::specularProbability(const PathVertex& v) const {
+    if (v.type != VertexType::Surface || !v.bsdf) return 0; // the path's ends
+    if (v.delta) return 1;
+    if (!v.bsdf->hasGlossy()) return 0;
+    const double alpha = v.bsdf->roughness(v.si.uv);
+    if (!std::isfinite(alpha)) return 0; // diffuse
+    // 1 - cos(t) as 2 sin^2(t / 2): no cancellation for the small angles of near-specular lobes.
+    const auto oneMinusCos = [](double t) { return 2 * sqr(std::sin(t / 2)); };
+    const double thetaQ = std::atan(-alpha * alpha * std::log(1 - 0.9));
+    const double R = oneMinusCos(thetaQ) / oneMinusCos(std::min(thetaQ + normalChange_, Pi));
+    return 1 - std::clamp(R, 0.0, 1.0);
+}
+
+double ManifoldPerturbation::stagesProbability(const MarkovPath& path, const Stages& s) const {
+    double P = 1;
+    for (int i = s.a + s.step();; i += s.step()) {
+        const PathVertex& v = path.v[size_t(i)];
+        if (!isSpecular(v)) {
+            const double psi = specularProbability(v);
+            P *= i == s.b || i == s.c ? 1 - psi : psi;
+        }
+        if (i == s.c) return P;
+    }
 }
 
 bool ManifoldPerturbation::suitable(const MarkovPath& x) const {
@@ -66,19 +96,40 @@ std::optional<ManifoldPerturbation::Stages> ManifoldPerturbation::stagesFrom(con
     return s;
 }
 
-std::optional<ManifoldPerturbation::Stages> ManifoldPerturbation::chooseStages(const MarkovPath& x, Pcg32& rng) {
+std::optional<ManifoldPerturbation::Stages> ManifoldPerturbation::chooseStages(const MarkovPath& x, Pcg32& rng) const {
     const int k = x.edges();
-    if (nonSpecularCount(x) < 3) return std::nullopt;
-    // With 3 non-specular vertices the camera's step toward the light always has its stages, so the
-    // loop ends.
-    if (rng.nextDouble() < 0.25) return stagesFrom(x, k, -1);
-    std::vector<int> candidates;
-    for (int i = 0; i <= k; ++i)
-        if (!isSpecular(x.v[size_t(i)])) candidates.push_back(i);
-    for (;;) {
-        const size_t pick = std::min(candidates.size() - 1, size_t(rng.nextDouble() * double(candidates.size())));
-        if (auto s = stagesFrom(x, candidates[pick], rng.nextDouble() < 0.5 ? -1 : 1)) return s;
+    if (nonSpecularCount(x) < 3) throw Error("manifold perturbation proposed for a path it is not suitable for");
+    // x_a and the direction: with 3 non-specular vertices the camera's step toward the light always
+    // has its stages, so the loop ends. Whether stages exist depends only on the delta flags, which the
+    // perturbation keeps: the probability of (a, step) is the same at both states.
+    int a = k, step = -1;
+    if (!(rng.nextDouble() < 0.25)) {
+        std::vector<int> candidates;
+        for (int i = 0; i <= k; ++i)
+            if (!isSpecular(x.v[size_t(i)])) candidates.push_back(i);
+        do {
+            const size_t pick = std::min(candidates.size() - 1, size_t(rng.nextDouble() * double(candidates.size())));
+            a = candidates[pick];
+            step = rng.nextDouble() < 0.5 ? -1 : 1;
+        } while (!stagesFrom(x, a, step));
     }
+    // The classification: each non-delta vertex passed is specular with probability psi.
+    const auto nextNonSpecular = [&](int from) {
+        int i = from + step;
+        for (; i > 0 && i < k; i += step) {
+            const PathVertex& v = x.v[size_t(i)];
+            if (isSpecular(v)) continue;
+            const double psi = specularProbability(v);
+            if (psi == 0 || !(rng.nextDouble() < psi)) break;
+        }
+        return i;
+    };
+    Stages s;
+    s.a = a;
+    s.b = nextNonSpecular(a);
+    if (s.b <= 0 || s.b >= k) return std::nullopt;
+    s.c = nextNonSpecular(s.b);
+    return s;
 }
 
 VonMisesFisher ManifoldPerturbation::kernel(const MarkovPath& path, const Stages& s) const {
@@ -97,19 +148,9 @@ VonMisesFisher ManifoldPerturbation::kernel(const MarkovPath& path, const Stages
     return {std::min(lobe.kappa, MaxConcentration)};
 }
 
-double ManifoldPerturbation::turnedChainDensity(const MarkovPath& path, const Stages& s, double pdfDir) const {
-    const auto& v = path.v;
-    const int step = s.step();
-    double p = v[size_t(s.a)].convertDensity(pdfDir, v[size_t(s.a + step)]);
-    for (int i = s.a + 2 * step; i != s.b + step && p > 0; i += step)
-        p *= step > 0 ? fixedLobeDensityFromLight(scene_, v, size_t(i))
-                      : fixedLobeDensityFromEye(scene_, sensor_, v, size_t(i));
-    return p;
-}
-
-double ManifoldPerturbation::walkedChainFactor(const MarkovPath& path, const Stages& s) const {
-    if (std::abs(s.c - s.b) == 1) return 1;
-    const auto chain = manifoldChain(path.v, size_t(s.c), size_t(s.b));
+double ManifoldPerturbation::deltaRunFactor(const MarkovPath& path, int held, int moving) const {
+    if (std::abs(held - moving) == 1) return 1;
+    const auto chain = manifoldChain(path.v, size_t(held), size_t(moving));
     if (!chain) return 0;
     const auto J = chainJacobian(*chain);
     if (!J) return 0;
@@ -118,15 +159,15 @@ double ManifoldPerturbation::walkedChainFactor(const MarkovPath& path, const Sta
     const double det = std::abs(T->front().det());
     if (!(det > 0) || !std::isfinite(det)) return 0;
     double g = 1;
-    const int step = s.b > s.c ? 1 : -1;
-    for (int i = s.c + step; i != s.b; i += step)
+    const int step = moving > held ? 1 : -1;
+    for (int i = held + step; i != moving; i += step)
         g *= geometryTerm(path.v[size_t(i)], path.v[size_t(i + step)]);
-    if (s.c > s.b) {
-        // x_c on the eye side: G with x_c held is the eye-to-light term; the light-to-eye one f~ strips
-        // differs from it by prod R_rad / R_imp over the chain (markov_path.h: the two orientations' deltas
+    if (held > moving) {
+        // The eye end held: G with it held is the eye-to-light term; the light-to-eye one f~ strips
+        // differs from it by prod R_rad / R_imp over the run (markov_path.h: the two orientations' deltas
         // differ by that ratio), which holds the refractions' eta^2 and, where a shading normal differs
         // from the geometric one, the adjoint cosine ratio (Veach 1997, Sec. 5.3): not a constant.
-        for (int i = s.b + 1; i < s.c; ++i) {
+        for (int i = moving + 1; i < held; ++i) {
             const PathVertex& x = path.v[size_t(i)];
             const auto imp = deltaImportance(path.v, size_t(i));
             const auto rad = deltaLobe(x, x.directionTo(path.v[size_t(i) + 1]), scatterKind(x), Transport::Radiance);
@@ -135,6 +176,47 @@ double ManifoldPerturbation::walkedChainFactor(const MarkovPath& path, const Sta
         }
     }
     return g / det;
+}
+
+double ManifoldPerturbation::deltaRunsFactor(const MarkovPath& path, int from, int to) const {
+    const int lo = std::min(from, to), hi = std::max(from, to), k = path.edges();
+    double S = 1;
+    for (int i = lo; i < hi && S > 0; ++i) {
+        if (isSpecular(path.v[size_t(i)]) || !isSpecular(path.v[size_t(i) + 1])) continue;
+        int j = i + 1;
+        while (isSpecular(path.v[size_t(j)]))
+            ++j;
+        // Held at the light end, unless the eye end is the camera (no surface to move in).
+        S *= j == k ? deltaRunFactor(path, j, i) : deltaRunFactor(path, i, j);
+    }
+    return S;
+}
+
+double ManifoldPerturbation::turnedChainDensity(const MarkovPath& path, const Stages& s, double pdfDir) const {
+    const auto& v = path.v;
+    double p = v[size_t(s.a)].convertDensity(pdfDir, v[size_t(s.a + s.step())]);
+    if (std::abs(s.b - s.a) > 1 && p > 0) {
+        const auto chain = manifoldChain(v, size_t(s.a), size_t(s.b));
+        const auto J = chain ? chainJacobian(*chain) : std::nullopt;
+        const auto T = J ? tangentMaps(*J) : std::nullopt;
+        if (!T) return 0;
+        p *= std::abs(T->front().det());
+    }
+    return std::isfinite(p) ? p * deltaRunsFactor(path, s.a, s.b) : 0.0;
+}
+
+double ManifoldPerturbation::offsetFactor(const MarkovPath& path, const Stages& s) const {
+    const int step = s.step();
+    bool holds = false;
+    for (int i = s.a + step; i != s.c; i += step)
+        holds |= i != s.b && !isSpecular(path.v[size_t(i)]);
+    if (!holds) return 1;
+    const auto chain = manifoldChain(path.v, size_t(s.a), size_t(s.c));
+    if (!chain) return 0;
+    std::vector<bool> specular(chain->size());
+    for (size_t j = 0; j < chain->size(); ++j)
+        specular[j] = isSpecular(path.v[size_t(s.a + step * int(j))]);
+    return offsetChartDeterminant(*chain, size_t(std::abs(s.b - s.a)), specular).value_or(0.0);
 }
 
 double ManifoldPerturbation::transitionDensity(const MarkovPath& from, const MarkovPath& to, const Stages& s) const {
@@ -146,25 +228,79 @@ double ManifoldPerturbation::transitionDensity(const MarkovPath& from, const Mar
     // near-specular lobe (kappa 1e7) would turn into a density wrong by percents.
     const Vec3& hit = to.v[size_t(next)].p();
     const Vec3 now = normalize(hit - rayFrom(at, hit - at.p()).o);
-    return turnedChainDensity(to, s, kernel(from, s).density(was, now)) * walkedChainFactor(to, s);
+    const double J = offsetFactor(to, s);
+    if (!(J > 0)) return 0;
+    return stagesProbability(from, s) / J * turnedChainDensity(to, s, kernel(from, s).density(was, now)) *
+           deltaRunsFactor(to, s.b, s.c);
+}
+
+std::optional<RejectCause> ManifoldPerturbation::followHeldChain(const MarkovPath& x, MarkovPath& y, const Stages& s,
+                                                                 Ray ray) const {
+    const auto chain = manifoldChain(x.v, size_t(s.a), size_t(s.b));
+    if (!chain) return RejectCause::ConfigurationChanged;
+    const int step = s.step();
+    for (int i = s.a + step, j = 1;; i += step, ++j) {
+        const auto hit = traceVertex(scene_, ray);
+        if (!hit) return RejectCause::ConfigurationChanged;
+        const PathVertex& was = x.v[size_t(i)];
+        PathVertex& v = y.v[size_t(i)];
+        v = *hit;
+        v.lobe = was.lobe;
+        if (i == s.b) {
+            v.delta = false;
+            return v.isConnectible() ? std::nullopt : std::optional(RejectCause::ConfigurationChanged);
+        }
+        v.delta = was.delta;
+        const ManifoldVertex& old = (*chain)[size_t(j)];
+        auto m = manifoldVertex(v.si);
+        if (v.si.shape != was.si.shape || !m) return RejectCause::ConfigurationChanged;
+        m->scatter = old.scatter;
+        m->eta = old.eta;
+        m->offset = old.offset;
+        const auto out =
+            scatterHeld(*m, v.directionTo(y.v[size_t(i - step)]), (*chain)[size_t(j) - 1].p - old.p, old.ng);
+        if (std::holds_alternative<WalkFailure>(out)) return RejectCause::ConfigurationChanged;
+        ray = spawnRay(v.si.endpoint(), std::get<Vec3>(out));
+    }
 }
 
 void ManifoldPerturbation::propose(const MarkovPath& x, Pcg32& rng, Proposal& out) const {
     out = Proposal{};
-    // 1. The stages.
+    if (!suitable(x)) throw Error("manifold perturbation proposed for a path it is not suitable for");
+    // 1. The stages and the classification.
     const auto s = chooseStages(x, rng);
-    if (!s) throw Error("manifold perturbation proposed for a path it is not suitable for");
-    // 2. Turn the direction at x_a and follow the specular vertices after it to x_b'.
+    if (!s) {
+        out.failed = RejectCause::ConfigurationChanged;
+        return;
+    }
+    const int step = s->step();
+    const auto holdsGlossy = [&](int from, int to) {
+        for (int i = from + step; i != to; i += step)
+            if (!isSpecular(x.v[size_t(i)])) return true;
+        return false;
+    };
+    // 2. Turn the direction at x_a and follow the chain after it to x_b'.
     const PathVertex& at = x.v[size_t(s->a)];
-    const Vec3 current = at.directionTo(x.v[size_t(s->a + s->step())]);
+    const Vec3 current = at.directionTo(x.v[size_t(s->a + step)]);
     const VonMisesFisher lobe = kernel(x, *s);
     const double u1 = rng.nextDouble(), u2 = rng.nextDouble();
     const Vec3 dir = lobe.sample(current, u1, u2);
     const double pdfDir = lobe.density(current, dir);
     out.y = x;
-    double sampled = 1;
-    const Transport mode = s->step() > 0 ? Transport::Importance : Transport::Radiance;
-    if (const auto why = followChain(scene_, x.v, out.y.v, s->a, s->b, rayFrom(at, dir), pdfDir, mode, sampled)) {
+    // The density multiplied while tracing a chain of delta vertices (specular_chain.h), for the tests'
+    // check against transitionDensity; a chain through held glossy vertices has its density only in the
+    // closed form of transitionDensity.
+    std::optional<double> traced;
+    const bool turnedHolds = holdsGlossy(s->a, s->b);
+    if (!turnedHolds) {
+        double sampled = 1;
+        const Transport mode = step > 0 ? Transport::Importance : Transport::Radiance;
+        if (const auto why = followChain(scene_, x.v, out.y.v, s->a, s->b, rayFrom(at, dir), pdfDir, mode, sampled)) {
+            out.failed = why;
+            return;
+        }
+        traced = sampled;
+    } else if (const auto why = followHeldChain(x, out.y, *s, rayFrom(at, dir))) {
         out.failed = why;
         return;
     }
@@ -189,24 +325,26 @@ void ManifoldPerturbation::propose(const MarkovPath& x, Pcg32& rng, Proposal& ou
             out.failed = rejectionOf(back.failure);
             return;
         }
-        const int step = s->b > s->c ? 1 : -1;
+        const int toward = s->b > s->c ? 1 : -1;
         for (size_t j = 1; j + 1 < walked.chain.size(); ++j) {
             const ManifoldVertex& m = walked.chain[j];
-            PathVertex& v = out.y.v[size_t(s->c + step * int(j))];
-            const Lobes lobe = v.lobe;
+            PathVertex& v = out.y.v[size_t(s->c + toward * int(j))];
+            const Lobes kind = v.lobe;
+            const bool delta = v.delta;
             SurfaceInteraction si = scene_.shapes[size_t(m.shape)].surfaceAt(m.prim, m.coords);
             si.shape = m.shape;
             setSurfaceVertex(scene_, std::move(si), v);
-            v.lobe = lobe;
-            v.delta = true;
+            v.lobe = kind;
+            v.delta = delta;
         }
     }
     if (!evaluateProposal(scene_, x, out)) return;
-    // 4. T both ways from the two states (the reverse with y's concentration).
-    // A walked chain whose Jacobian is singular at y (x_b' on a caustic fold of x_c), or a specular
-    // vertex whose lobe no longer fits after rounding, has no density to accept it with.
-    const double chainFactor = walkedChainFactor(out.y, *s);
-    if (!(chainFactor > 0)) {
+    // 4. T both ways from the two states (the reverse with y's concentration and classification
+    // probability). A chain whose Jacobian is singular at y (x_b' on a caustic fold of x_c), or a
+    // specular vertex whose lobe no longer fits after rounding, has no density to accept it with.
+    const double walkedRuns = deltaRunsFactor(out.y, s->b, s->c);
+    const double J = offsetFactor(out.y, *s);
+    if (!(walkedRuns > 0) || !(J > 0)) {
         if (out.walk) out.walk->failure = WalkFailure::Singular;
         out.failed = RejectCause::WalkFailed;
         return;
@@ -216,7 +354,36 @@ void ManifoldPerturbation::propose(const MarkovPath& x, Pcg32& rng, Proposal& ou
         out.failed = RejectCause::ConfigurationChanged;
         return;
     }
-    setTransitionDensities(out, x, sampled * chainFactor, forward, transitionDensity(out.y, x, *s));
+    const double sampled = traced ? *traced * walkedRuns * stagesProbability(x, *s) / J : forward;
+    setTransitionDensities(out, x, sampled, forward, transitionDensity(out.y, x, *s));
+}
+
+NormalChange measureNormalChange(const Scene& scene, double lambda, std::span<const MarkovPath> states,
+                                 size_t proposals, uint64_t seed) {
+    const ManifoldPerturbation mutation(scene, lambda);
+    NormalChange result;
+    double sum = 0;
+    Pcg32 rng(seed, 0x6d65);
+    const auto normalAt = [](const MarkovPath& p, int b) -> std::optional<Vec3> {
+        // x_b as the interior of the chain x_{b-1} x_b x_{b+1}: its microfacet normal is its offset's.
+        const auto chain = manifoldChain(p.v, size_t(b - 1), size_t(b + 1));
+        return chain ? microfacetNormal((*chain)[1], (*chain)[1].offset) : std::nullopt;
+    };
+    for (size_t n = 0; n < proposals && !states.empty(); ++n) {
+        const MarkovPath& x = states[n % states.size()];
+        if (!mutation.suitable(x)) continue;
+        Pcg32 copy = rng;
+        const auto s = mutation.chooseStages(x, copy);
+        Proposal p;
+        mutation.propose(x, rng, p);
+        if (p.failed || !s) continue;
+        const auto before = normalAt(x, s->b), after = normalAt(p.y, s->b);
+        if (!before || !after) continue;
+        sum += std::acos(std::clamp(dot(*before, *after), -1.0, 1.0));
+        ++result.measured;
+    }
+    if (result.measured > 0 && sum > 0) result.radians = std::min(sum / double(result.measured), Pi);
+    return result;
 }
 
 } // namespace lt

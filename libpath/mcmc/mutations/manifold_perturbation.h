@@ -1,35 +1,53 @@
-// The manifold perturbation of Manifold Exploration (Jakob & Marschner 2012, Sec. 5.1), for paths
-// through ideal specular chains: at a non-specular vertex x_a turn the direction toward x_{a+-1} by a
-// von Mises-Fisher lobe, follow the specular vertices after it with their lobe kinds kept to the next
-// non-specular vertex x_b', and carry the specular chain between x_b' and the next non-specular vertex
-// x_c (held) along its manifold with the manifold walk (manifold/manifold_walk.h). It generalizes the
-// lens, caustic and multi-chain perturbations: x_a the camera and x_b x_c joined by a chain is a caustic
-// seen through glass, which none of them can move.
+// The manifold perturbation of Manifold Exploration (Jakob & Marschner 2012, Sec. 5.1-5.2), for paths
+// through specular and glossy chains: at a non-specular vertex x_a turn the direction toward x_{a+-1}
+// by a von Mises-Fisher lobe, follow the chain after it (specular vertices with their lobe kinds kept,
+// glossy ones treated as specular with their microfacet normals held) to the next non-specular vertex
+// x_b', and carry the chain between x_b' and the next non-specular vertex x_c (held) along its manifold
+// with the manifold walk (manifold/manifold_walk.h). It generalizes the lens, caustic and multi-chain
+// perturbations: x_a the camera and x_b x_c joined by a chain is a caustic seen through glass, which
+// none of them can move.
 //
 // Stages. With probability 1/4 x_a is the camera and the step goes toward the light (Mitsuba's preference
 // for sensor-side perturbations); otherwise x_a is a uniformly chosen non-specular vertex and the step
-// direction a fair coin, chosen again until x_b and x_c lie on the path. The choice depends only on
-// which vertices are specular, which the perturbation keeps: its probability is the same at both states
-// and cancels.
+// direction a fair coin, chosen again until the path has an x_b and x_c beyond the delta vertices. That
+// choice depends only on which vertices are delta, which the perturbation keeps: its probability is the
+// same at both states and cancels. The classification of the glossy vertices after it does not cancel
+// (below).
 //
 // Kernel. The lobe around the current direction w_o has its peak at lambda^2 p(w_i -> w_o), p the
 // density with which x_a samples w_o (its BSDF, the light's emission or the camera's ray), at least
 // 1 / (4 pi) (Mitsuba's floor), taken at each state: T(y -> x) uses the concentration of y.
 //
-// T in the measure of f (markov_path.h strips the specular deltas, light to eye). Jakob & Marschner's
-// T(x -> y) = D_perp(w_o') G(x_a <-> .. <-> x_b') is the area density of x_b' with every other vertex
-// determined; f(y) / T(x -> y) is what enters the acceptance. lt's f~ differs from their f by a factor
-// per specular chain, prod G(edges) / G(chain), where G(chain) is the generalized geometry term
-// (ME Eq. 9) with the light end held. Multiplying T by the same factor of y keeps f / T, so:
-//   T~(x -> y) = [D(w_o') |cos| / d^2 at x_{a+-1}' x prod G of the turned chain's later edges]
-//              x [prod G of the walked chain's edges except the one at x_c] / |det d x_{c-+1}' / d x_b'|,
-// the last determinant from the walked chain's tangent maps with x_c held. Where x_c lies on the eye
-// side (the camera, often: it has no area to move), that G is the eye-to-light term; the factor times
-// prod R_imp / R_rad over the chain turns it into the light-to-eye one (walkedChainFactor).
+// Glossy chains (offset manifolds, ME Sec. 5.2 and App. A1). Walking from x_a toward x_b, each
+// non-delta vertex passed is treated as specular with probability psi (specularProbability: 1 for delta
+// vertices, 0 for diffuse ones and the endpoints, from the roughness in between); the first one that is
+// not becomes x_b, and after it x_c the same way. A glossy vertex treated as specular keeps its offset o
+// (its constraint value, the microfacet normal in its frame) through the propagation of the turned chain
+// and the walk, so the perturbation moves on the manifold of fixed o with coordinates (x_b, o). When the
+// classification puts x_b on the path's end the proposal is rejected (counted as a configuration change):
+// drawing the classification again would make its probability depend on the roughness of the vertices
+// passed, which the perturbation changes.
 //
-// Not built yet: the endpoint position perturbation (light and aperture points move only through the
-// bidirectional mutation) and glossy chains (offset manifolds, ME Sec. 5.2).
+// T in the measure of f (markov_path.h strips the specular deltas, light to eye). The density f of
+// Jakob & Marschner is one in area on the non-delta vertices; in the chart (x_b, o) it is f J with
+// J = |d(x_b, x_held) / d(x_b, o)| (offsetChartDeterminant). Their move samples x_b' with the area density
+// T1 = D_perp(w_o') G(x_a <-> .. <-> x_b') (the chain's vertices holding their constraint values) under the
+// classification of probability Psi = prod psi or (1 - psi) (x_b and x_c: 1 - psi), so the acceptance is
+// f(y) J(y) Psi(y) T1(y -> x) / (f(x) J(x) Psi(x) T1(x -> y)): J multiplies f, as Mitsuba places it (ME
+// Eq. 12 prints it inside T). lt's f~ differs from their f by prod G(edges) / G(run) per run of delta
+// vertices, G(run) the generalized geometry term (ME Eq. 9) from the light end (deltaRunFactor).
+// Multiplying T by the same factor of y keeps f / T, so
+//   T~(x -> y) = Psi(x) / J(y) x [D(w_o') |cos| / d^2 at x_{a+-1}' x |det d x_{a+-1}' / d x_b'|]
+//                x prod over the delta runs between x_a and x_c of y of G(edges) / G(run),
+// the determinant from the turned chain's tangent maps with x_a held.
+//
+// Known limit: a held offset is relative to the vertex's frame (manifold_vertex.h), which on a triangle
+// mesh follows each triangle's uv chart, so walks across triangle edges through held glossy vertices
+// often diverge or do not come back (rejected, not biased). Not built yet: the endpoint position
+// perturbation (light and aperture points move only through the bidirectional mutation).
 #pragma once
+
+#include <span>
 
 #include "manifold/manifold_walk.h"
 #include "math/von_mises_fisher.h"
@@ -41,7 +59,10 @@ namespace lt {
 class ManifoldPerturbation final : public Mutation {
 public:
     // lambda: the lobe's peak relative to the BSDF's sampling density (ME Sec. 5.1: 50 .. 500).
-    explicit ManifoldPerturbation(const Scene& scene, double lambda = 50);
+    // normalChange: Delta-theta of ME App. A1, the mean angle by which a perturbation turns the microfacet
+    // normal at x_b (radians; measured in a pre-run by measureNormalChange, then held fixed so that the
+    // chain stays Markov; Mitsuba starts from 1 degree).
+    explicit ManifoldPerturbation(const Scene& scene, double lambda = 50, double normalChange = Pi / 180);
 
     [[nodiscard]] std::string name() const override { return "manifold"; }
     [[nodiscard]] bool suitable(const MarkovPath& x) const override;
@@ -53,29 +74,57 @@ public:
         int a = 0, b = 0, c = 0;
         [[nodiscard]] int step() const { return b > a ? 1 : -1; }
     };
-    // The stages of a proposal from x, drawn as the header comment says (the first numbers propose()
-    // draws); nothing when x is not suitable.
-    [[nodiscard]] static std::optional<Stages> chooseStages(const MarkovPath& x, Pcg32& rng);
-    // The stages starting at a in direction step, or nothing when the path ends before c.
+    // The stages of a proposal from a suitable x, drawn as the header comment says (the first numbers
+    // propose() draws); nothing when the classification left x_b on the path's end.
+    [[nodiscard]] std::optional<Stages> chooseStages(const MarkovPath& x, Pcg32& rng) const;
+    // The stages starting at a in direction step with only the delta vertices specular, or nothing when
+    // the path ends before c.
     [[nodiscard]] static std::optional<Stages> stagesFrom(const MarkovPath& path, int a, int step);
+    // psi(v): the probability that v is treated as specular (ME App. A1 in its printed form, psi = 1 - R
+    // with R = (1 - cos theta_q) / (1 - cos(theta_q + Delta-theta)), theta_q = atan(-alpha^2 log(1 - 0.9))).
+    [[nodiscard]] double specularProbability(const PathVertex& v) const;
+    // Psi: the probability of the classification the stages s stand for, at the state `path`.
+    [[nodiscard]] double stagesProbability(const MarkovPath& path, const Stages& s) const;
+    // J = |d(x_b, x_held) / d(x_b, o)| of the header comment at `path` (1 without held glossy vertices).
+    [[nodiscard]] double offsetFactor(const MarkovPath& path, const Stages& s) const;
 
     // The direction kernel of a state at x_a.
     [[nodiscard]] VonMisesFisher kernel(const MarkovPath& path, const Stages& s) const;
     // T~(from -> to) (header comment), from the two states alone; 0 when a Jacobian is singular.
     [[nodiscard]] double transitionDensity(const MarkovPath& from, const MarkovPath& to, const Stages& s) const;
 
-    // prod G(edges) / G(chain) of the chain between b and c, G(chain) the light-to-eye generalized geometry
-    // term (1 without specular vertices; 0 where the chain's Jacobian is singular).
-    [[nodiscard]] double walkedChainFactor(const MarkovPath& path, const Stages& s) const;
+    // prod G(edges) / G(run) of the delta run between the non-delta vertices `held` and `moving` (G(run)
+    // the light-to-eye generalized geometry term, taken with `held` fixed and turned into the light-to-eye
+    // one when `held` is the eye end); 1 without delta vertices between them, 0 where a Jacobian is
+    // singular. `moving` must lie on a surface.
+    [[nodiscard]] double deltaRunFactor(const MarkovPath& path, int held, int moving) const;
 
 private:
-    // The stripped density of x_{a+-1} .. x_b given the direction density at x_a.
+    // The product of deltaRunFactor over the delta runs between the non-delta vertices from and to.
+    [[nodiscard]] double deltaRunsFactor(const MarkovPath& path, int from, int to) const;
+    // The stripped density of x_{a+-1} .. x_b given the direction density at x_a (the bracket and the
+    // turned chain's runs of the header comment).
     [[nodiscard]] double turnedChainDensity(const MarkovPath& path, const Stages& s, double pdfDir) const;
+    // The turned chain through held glossy vertices: from `ray` (leaving x_a) to x_b', each vertex
+    // scattering about its held microfacet normal (manifold/manifold_walk.h scatterHeld) on the same shape.
+    [[nodiscard]] std::optional<RejectCause> followHeldChain(const MarkovPath& x, MarkovPath& y, const Stages& s,
+                                                             Ray ray) const;
 
     const Scene& scene_;
     SensorWindow sensor_;
     double lambda2_;
+    double normalChange_;
     WalkSettings walk_;
 };
+
+// The pre-run of ME App. A1: the mean angle by which the manifold perturbation (lambda, Delta-theta of
+// 1 degree) turns the microfacet normal at x_b, over `proposals` proposals from `states` in turn (those
+// that reach a path); 1 degree when none does.
+struct NormalChange {
+    double radians = Pi / 180;
+    size_t measured = 0; // proposals that reached a path
+};
+[[nodiscard]] NormalChange measureNormalChange(const Scene& scene, double lambda, std::span<const MarkovPath> states,
+                                               size_t proposals, uint64_t seed);
 
 } // namespace lt

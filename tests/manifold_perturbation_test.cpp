@@ -191,10 +191,9 @@ TEST_CASE("manifold perturbation: the density sampled is the T(x -> y) computed,
     INFO(walked << " walks converged, " << notReversible << " of them not reversible; " << glossyWalks
                 << " through held glossy vertices, " << glossyNotReversible << " of them not reversible");
     CHECK(walked > 2000);
-    // Chains of delta vertices come back (ME: 0 - 0.4 % do not). Held glossy vertices on veach-bidir's lamp
-    // shade (a triangle mesh whose chart tangents come from each triangle's uv map) keep their offset in
-    // a frame that jumps across the triangles' edges, so a walk that crosses one and comes back lands
-    // elsewhere (measured: 27 of 196 by more than 1e-3 of the diagonal); the check rejects those.
+    // Chains of delta vertices come back (ME: 0 - 0.4 % do not). Walks through held glossy vertices on
+    // veach-bidir's curved lamp shade come back less often (measured: 36 of 197 beyond 1e-4 of the
+    // diagonal, 27 beyond 1e-3): the check rejects those; their rate is reported, not bounded.
     CHECK(notReversible - glossyNotReversible < (walked - glossyWalks) / 100);
     CHECK(glossyWalks > 100);
 }

@@ -254,13 +254,14 @@ int main(int argc, char** argv) {
                     } catch (const lt::Error&) { // a seed the scene cannot re-create is left to the run to report
                     }
                 }
-                const auto change = lt::measureNormalChange(*scene, lambda, states, NormalChangePreRun, seed);
+                const auto change = lt::measureNormalChange(*scene, lambda, states, NormalChangePreRun, seed,
+                                                            &lt::tool::stopRequested());
                 settings.normalChange = change.radians;
                 preRun = change;
                 if (!quiet)
-                    std::cerr << "lt-mutate: manifold pre-run: " << NormalChangePreRun << " proposals, "
-                              << change.measured << " reached a path; mean normal change at x_b "
-                              << change.radians * 180 / lt::Pi << " degrees (held for the run)\n";
+                    std::cerr << "lt-mutate: manifold pre-run: " << change.proposed << " proposals, " << change.measured
+                              << " reached a path; mean normal change at x_b " << change.radians * 180 / lt::Pi
+                              << " degrees (held for the run)\n";
             }
             std::vector<std::unique_ptr<lt::Mutation>> owned;
             std::vector<lt::WeightedMutation> mix;
@@ -301,7 +302,7 @@ int main(int argc, char** argv) {
             writer.writeStats(t);
         if (preRun)
             writer.writeStats(
-                lt::file::valueTable("manifold_prerun", {{"proposals", double(NormalChangePreRun)},
+                lt::file::valueTable("manifold_prerun", {{"proposals", double(preRun->proposed)},
                                                          {"reached_a_path", double(preRun->measured)},
                                                          {"normal_change_degrees", preRun->radians * 180 / lt::Pi}}));
         if (!pathSpace && ps.space == lt::PrimarySpace::Multiplexed) {

@@ -57,7 +57,7 @@ SceneFeatures analyzeScene(const Scene& scene) {
     };
     f.specularChains = f.deltaBsdfs > 0;
     f.specularReason = f.specularChains ? "delta BSDFs: " + list(deltaNames)
-                                        : "no delta (perfectly specular) BSDF: caustic, multi-chain and manifold "
+                                        : "no delta (perfectly specular) BSDF: caustic and multi-chain "
                                           "perturbations of ideal specular chains cannot apply";
     f.glossySurfaces = f.glossyBsdfs > 0;
     f.glossyReason = f.glossySurfaces ? "glossy BSDFs: " + list(glossyNames)

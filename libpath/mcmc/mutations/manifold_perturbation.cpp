@@ -359,8 +359,11 @@ void ManifoldPerturbation::propose(const MarkovPath& x, Pcg32& rng, Proposal& ou
 }
 
 NormalChange measureNormalChange(const Scene& scene, double lambda, std::span<const MarkovPath> states,
-                                 size_t proposals, uint64_t seed) {
+                                 size_t proposals, uint64_t seed, const std::atomic<bool>* stop) {
     const ManifoldPerturbation mutation(scene, lambda);
+    std::vector<const MarkovPath*> suitable;
+    for (const MarkovPath& x : states)
+        if (mutation.suitable(x)) suitable.push_back(&x);
     NormalChange result;
     double sum = 0;
     Pcg32 rng(seed, 0x6d65);
@@ -369,9 +372,9 @@ NormalChange measureNormalChange(const Scene& scene, double lambda, std::span<co
         const auto chain = manifoldChain(p.v, size_t(b - 1), size_t(b + 1));
         return chain ? microfacetNormal((*chain)[1], (*chain)[1].offset) : std::nullopt;
     };
-    for (size_t n = 0; n < proposals && !states.empty(); ++n) {
-        const MarkovPath& x = states[n % states.size()];
-        if (!mutation.suitable(x)) continue;
+    for (; result.proposed < proposals && !suitable.empty(); ++result.proposed) {
+        if (stop && stop->load(std::memory_order_relaxed)) break;
+        const MarkovPath& x = *suitable[result.proposed % suitable.size()];
         Pcg32 copy = rng;
         const auto s = mutation.chooseStages(x, copy);
         Proposal p;

@@ -481,8 +481,10 @@ namespace {
 // d(x_b, o)| varies over the patches (the planes are not parallel). The point light also checks that
 // paths from a point light carry its intensity (they carried nothing before this test) and that the
 // light seen directly by the pinhole, a path space of measure zero, is never a state (it is inside the
-// camera's view: the bidirectional mutation proposes it).
-constexpr double PairAlpha = 0.1;
+// camera's view: the bidirectional mutation proposes it). G1's two halves (split at x = 0, along the
+// bins' halves) have different roughness, so the classification probability Psi differs between a state
+// and its proposal whenever x_b moves from one half to the other.
+constexpr double G1AlphaLeft = 0.08, G1AlphaRight = 0.16, G2Alpha = 0.1;
 const Vec3 PointLight{-1, 0, 1.5};
 const Patch G1{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, 0.5};
 // G2 at the light's mirror ray through G1's centre, at height 2.5 (behind the light's horizontal plane);
@@ -499,9 +501,13 @@ std::string glossyPairScene(const test::TempDir& dir) {
         s << p.x << ',' << p.y << ',' << p.z;
         return s.str();
     };
-    const std::string rough = R"(<bsdf type="roughconductor"><string name="material" value="none"/>
+    const auto rough = [](double alpha) {
+        return R"(<bsdf type="roughconductor"><string name="material" value="none"/>
       <string name="distribution" value="beckmann"/><float name="alpha" value=")" +
-                              std::to_string(PairAlpha) + R"("/></bsdf>)";
+               std::to_string(alpha) + R"("/></bsdf>)";
+    };
+    // G1's halves: a u axis of half length (so the rectangle's matrix spans 0.25 along x) centred at x = -+0.25.
+    const Patch left{{-0.25, 0, 0}, {0.5, 0, 0}, G1.v, G1.n, G1.h}, right{{0.25, 0, 0}, {0.5, 0, 0}, G1.v, G1.n, G1.h};
     return dir.write("pair.xml", R"(<scene version="0.5.0">
   <sensor type="perspective"><float name="fov" value="30"/>
     <transform name="toWorld"><lookat origin=")" +
@@ -510,16 +516,17 @@ std::string glossyPairScene(const test::TempDir& dir) {
                                      std::to_string(Resolution) + R"("/><integer name="height" value=")" +
                                      std::to_string(Resolution) + R"("/><rfilter type="box"/></film>
   </sensor>
-  )" + rectangle(G1, rough) + rectangle(G2, rough) +
+  )" + rectangle(left, rough(G1AlphaLeft)) +
+                                     rectangle(right, rough(G1AlphaRight)) + rectangle(G2, rough(G2Alpha)) +
                                      R"(<emitter type="point"><point name="position" value=")" + vec(PointLight) +
                                      R"("/><rgb name="intensity" value="1"/></emitter>
 </scene>)");
 }
 
 // f*(x1, x2) = targetValue(I f_1 f_2) G(light, x1) G(x1, x2) G(x2, eye) W_e by a midpoint rule over G1
-// and G2, binned by G1's half and G2's cell; the point light contributes no cosine, the pinhole as in
-// tabulateTarget.
-std::vector<double> tabulatePair(const Bsdf& bsdf) {
+// and G2, binned by G1's half and G2's cell (f_1 from the BSDF of x1's half); the point light contributes
+// no cosine, the pinhole as in tabulateTarget.
+std::vector<double> tabulatePair(const Bsdf& left, const Bsdf& right, const Bsdf& bsdf2) {
     constexpr int G1Grid = 64, SubCells = 6, Fine = Cells * SubCells;
     const Vec3 forward = normalize(G2Centre - PairEye);
     const auto local = [](const Patch& p, const Vec3& w) { return Vec3(dot(w, p.u), dot(w, p.v), dot(w, p.n)); };
@@ -539,8 +546,9 @@ std::vector<double> tabulatePair(const Bsdf& bsdf) {
                     const double d2 = dot(d, d);
                     const Vec3 w = d / std::sqrt(d2);
                     const double g = dot(w, G1.n) * -dot(w, G2.n) / d2;
-                    const Spectrum f1 = bsdf.eval(local(G1, wl), local(G1, w), Vec2(0.5, 0.5), Transport::Importance);
-                    const Spectrum f2 = bsdf.eval(local(G2, -w), local(G2, wo), Vec2(0.5, 0.5), Transport::Importance);
+                    const Bsdf& bsdf1 = G1.a(x1) < 0 ? left : right;
+                    const Spectrum f1 = bsdf1.eval(local(G1, wl), local(G1, w), Vec2(0.5, 0.5), Transport::Importance);
+                    const Spectrum f2 = bsdf2.eval(local(G2, -w), local(G2, wo), Vec2(0.5, 0.5), Transport::Importance);
                     const double f = targetValue(f1 * f2) * dot(wl, G1.n) / dLight2 * g * eyeFactor;
                     bins[size_t(binOf(G1, G2, x1, x2))] += f;
                 }
@@ -563,17 +571,23 @@ TEST_CASE("path-space chains through two glossy bounces visit a tiny path space 
     CHECK(dot(PointLight - G2Centre, G2.n) < 0);
     CHECK(dot(G2Centre - G1.c, G1.n) > 0);
     CHECK(dot(G1.c - G2Centre, G2.n) > 0);
-    const Bsdf& bsdf = *scene->bsdfs[size_t(scene->shapes[0].bsdf)].bsdf;
-    REQUIRE(bsdf.typeName() == "roughconductor");
-    const std::vector<double> expected = tabulatePair(bsdf);
+    const auto bsdfOf = [&](size_t shape) -> const Bsdf& {
+        const Bsdf& b = *scene->bsdfs[size_t(scene->shapes[shape].bsdf)].bsdf;
+        REQUIRE(b.typeName() == "roughconductor");
+        return b;
+    };
+    REQUIRE(bsdfOf(0).roughness({}) == Approx(G1AlphaLeft));
+    REQUIRE(bsdfOf(1).roughness({}) == Approx(G1AlphaRight));
+    const std::vector<double> expected = tabulatePair(bsdfOf(0), bsdfOf(1), bsdfOf(2));
     const auto [lo, hi] = std::minmax_element(expected.begin(), expected.end());
     INFO("bin probabilities from " << *lo << " to " << *hi);
     CHECK(*hi > 5 * *lo);
-    // The manifold perturbation weighted 15 to 1, so that its stationary distribution dominates: with the
-    // determinant J left out (Mitsuba's shortcut for one glossy vertex) the sum of z^2 over the bins was 311
-    // and the largest marginal |z| 7.7; with J multiplying T (ME Eq. 12 read literally) 720 and 12.6;
-    // correct, 65 and 1.5 (64 chains, 24576 mutations each). The bidirectional mutation keeps the chains
+    // The manifold perturbation weighted 15 to 1, so that its stationary distribution dominates. Broken on
+    // purpose (64 chains, 24576 mutations each; sum of z^2 over the bins, largest marginal |z|): J left out
+    // (Mitsuba's shortcut for one glossy vertex) 268 and 5.6; J multiplying T (ME Eq. 12 read literally)
+    // 1138 and 16.6; Psi left out 27 895 and 101; Psi taken at the proposal instead of the state 117 885 and
+    // 145. Correct: 64 and 1.9. The bidirectional mutation keeps the chains
     // ergodic but rarely moves them here (2.7 % accepted: the lobes are narrow and the light a point), so
     // only the perturbation must move them often.
-    checkVisits(*scene, expected, {"bidirectional,manifold:15"}, 3, G1, G2, 2, 1, 1, {"manifold"});
+    checkVisits(*scene, expected, {"bidirectional,manifold:15"}, 3, G1, G2, 2, 2, 1, {"manifold"});
 }

@@ -494,7 +494,16 @@ const Vec3 G2Normal = normalize(Vec3(1, 0, 0) - normalize(G2Centre));
 const Patch G2{G2Centre, normalize(cross(Vec3(0, 1, 0), G2Normal)), {0, 1, 0}, G2Normal, 0.2};
 const Vec3 PairEye = G2Centre + Vec3(1.5, 0, 0);
 
-std::string glossyPairScene(const test::TempDir& dir) {
+// The spot variant: the light aimed at G1's centre, full intensity within 5 degrees of its axis and
+// falling off linearly in the angle to zero at 25 degrees (lt's spot, Mitsuba's parameters), which G1's
+// far corners (23 degrees) reach.
+constexpr double SpotBeam = 5 * Pi / 180, SpotCutoff = 25 * Pi / 180;
+double spotFalloff(const Vec3& towardPoint) {
+    const double angle = std::acos(std::clamp(dot(normalize(G1.c - PointLight), towardPoint), -1.0, 1.0));
+    return angle <= SpotBeam ? 1.0 : angle >= SpotCutoff ? 0.0 : (SpotCutoff - angle) / (SpotCutoff - SpotBeam);
+}
+
+std::string glossyPairScene(const test::TempDir& dir, bool spot) {
     const auto vec = [](const Vec3& p) {
         std::ostringstream s;
         s.precision(17);
@@ -518,15 +527,19 @@ std::string glossyPairScene(const test::TempDir& dir) {
   </sensor>
   )" + rectangle(left, rough(G1AlphaLeft)) +
                                      rectangle(right, rough(G1AlphaRight)) + rectangle(G2, rough(G2Alpha)) +
-                                     R"(<emitter type="point"><point name="position" value=")" + vec(PointLight) +
-                                     R"("/><rgb name="intensity" value="1"/></emitter>
+                                     (spot ? R"(<emitter type="spot"><transform name="toWorld"><lookat origin=")" +
+                                                 vec(PointLight) + R"(" target=")" + vec(G1.c) + R"(" up="0,1,0"/>
+    </transform><float name="beamWidth" value="5"/><float name="cutoffAngle" value="25"/>)"
+                                           : R"(<emitter type="point"><point name="position" value=")" +
+                                                 vec(PointLight) + R"("/>)") +
+                                     R"(<rgb name="intensity" value="1"/></emitter>
 </scene>)");
 }
 
 // f*(x1, x2) = targetValue(I f_1 f_2) G(light, x1) G(x1, x2) G(x2, eye) W_e by a midpoint rule over G1
 // and G2, binned by G1's half and G2's cell (f_1 from the BSDF of x1's half); the point light contributes
 // no cosine, the pinhole as in tabulateTarget.
-std::vector<double> tabulatePair(const Bsdf& left, const Bsdf& right, const Bsdf& bsdf2) {
+std::vector<double> tabulatePair(const Bsdf& left, const Bsdf& right, const Bsdf& bsdf2, bool spot) {
     constexpr int G1Grid = 64, SubCells = 6, Fine = Cells * SubCells;
     const Vec3 forward = normalize(G2Centre - PairEye);
     const auto local = [](const Patch& p, const Vec3& w) { return Vec3(dot(w, p.u), dot(w, p.v), dot(w, p.n)); };
@@ -549,7 +562,8 @@ std::vector<double> tabulatePair(const Bsdf& left, const Bsdf& right, const Bsdf
                     const Bsdf& bsdf1 = G1.a(x1) < 0 ? left : right;
                     const Spectrum f1 = bsdf1.eval(local(G1, wl), local(G1, w), Vec2(0.5, 0.5), Transport::Importance);
                     const Spectrum f2 = bsdf2.eval(local(G2, -w), local(G2, wo), Vec2(0.5, 0.5), Transport::Importance);
-                    const double f = targetValue(f1 * f2) * dot(wl, G1.n) / dLight2 * g * eyeFactor;
+                    const double I = spot ? spotFalloff(-wl) : 1.0;
+                    const double f = targetValue(f1 * f2) * I * dot(wl, G1.n) / dLight2 * g * eyeFactor;
                     bins[size_t(binOf(G1, G2, x1, x2))] += f;
                 }
         }
@@ -563,31 +577,35 @@ std::vector<double> tabulatePair(const Bsdf& left, const Bsdf& right, const Bsdf
 
 TEST_CASE("path-space chains through two glossy bounces visit a tiny path space in proportion to f*",
           "[mcmc][manifold]") {
-    test::TempDir dir;
-    const auto scene = loadScene(glossyPairScene(dir));
-    const auto& camera = scene->camera;
-    checkFraming(camera, PairEye, G2, G1);
-    // The light lies behind G2 and in front of G1; G1 and G2 face each other.
-    CHECK(dot(PointLight - G2Centre, G2.n) < 0);
-    CHECK(dot(G2Centre - G1.c, G1.n) > 0);
-    CHECK(dot(G1.c - G2Centre, G2.n) > 0);
-    const auto bsdfOf = [&](size_t shape) -> const Bsdf& {
-        const Bsdf& b = *scene->bsdfs[size_t(scene->shapes[shape].bsdf)].bsdf;
-        REQUIRE(b.typeName() == "roughconductor");
-        return b;
-    };
-    REQUIRE(bsdfOf(0).roughness({}) == Approx(G1AlphaLeft));
-    REQUIRE(bsdfOf(1).roughness({}) == Approx(G1AlphaRight));
-    const std::vector<double> expected = tabulatePair(bsdfOf(0), bsdfOf(1), bsdfOf(2));
-    const auto [lo, hi] = std::minmax_element(expected.begin(), expected.end());
-    INFO("bin probabilities from " << *lo << " to " << *hi);
-    CHECK(*hi > 5 * *lo);
-    // The manifold perturbation weighted 15 to 1, so that its stationary distribution dominates. Broken on
-    // purpose (64 chains, 24576 mutations each; sum of z^2 over the bins, largest marginal |z|): J left out
-    // (Mitsuba's shortcut for one glossy vertex) 268 and 5.6; J multiplying T (ME Eq. 12 read literally)
-    // 1138 and 16.6; Psi left out 27 895 and 101; Psi taken at the proposal instead of the state 117 885 and
-    // 145. Correct: 64 and 1.9. The bidirectional mutation keeps the chains
-    // ergodic but rarely moves them here (2.7 % accepted: the lobes are narrow and the light a point), so
-    // only the perturbation must move them often.
-    checkVisits(*scene, expected, {"bidirectional,manifold:15"}, 3, G1, G2, 2, 2, 1, {"manifold"});
+    for (const bool spot : {false, true}) {
+        INFO((spot ? "spot light" : "point light"));
+        test::TempDir dir;
+        const auto scene = loadScene(glossyPairScene(dir, spot));
+        const auto& camera = scene->camera;
+        checkFraming(camera, PairEye, G2, G1);
+        // The light lies behind G2 and in front of G1; G1 and G2 face each other.
+        CHECK(dot(PointLight - G2Centre, G2.n) < 0);
+        CHECK(dot(G2Centre - G1.c, G1.n) > 0);
+        CHECK(dot(G1.c - G2Centre, G2.n) > 0);
+        const auto bsdfOf = [&](size_t shape) -> const Bsdf& {
+            const Bsdf& b = *scene->bsdfs[size_t(scene->shapes[shape].bsdf)].bsdf;
+            REQUIRE(b.typeName() == "roughconductor");
+            return b;
+        };
+        REQUIRE(bsdfOf(0).roughness({}) == Approx(G1AlphaLeft));
+        REQUIRE(bsdfOf(1).roughness({}) == Approx(G1AlphaRight));
+        const std::vector<double> expected = tabulatePair(bsdfOf(0), bsdfOf(1), bsdfOf(2), spot);
+        const auto [lo, hi] = std::minmax_element(expected.begin(), expected.end());
+        INFO("bin probabilities from " << *lo << " to " << *hi);
+        CHECK(*hi > 5 * *lo);
+        // The manifold perturbation weighted 15 to 1, so that its stationary distribution dominates. Broken
+        // on purpose (point light, 64 chains, 24576 mutations each; sum of z^2 over the bins, largest
+        // marginal |z|): J left out (Mitsuba's shortcut for one glossy vertex) 268 and 5.6; J multiplying T
+        // (ME Eq. 12 read literally) 1138 and 16.6; Psi left out 27 895 and 101; Psi taken at the proposal
+        // instead of the state 117 885 and 145. Correct: 64 and 1.9. With the spot light, a path-space
+        // intensity without the falloff gave 427 and 6.5 (correct: 115 and 2.8). The bidirectional mutation keeps the
+        // chains ergodic but rarely moves them here (2.7 % accepted: the lobes are narrow and the light a
+        // point), so only the perturbation must move them often.
+        checkVisits(*scene, expected, {"bidirectional,manifold:15"}, 3, G1, G2, 2, 2, 1, {"manifold"});
+    }
 }

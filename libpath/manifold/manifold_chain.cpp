@@ -45,17 +45,20 @@ std::optional<std::vector<Mat2>> tangentMaps(const ChainJacobian& J) {
 
 std::optional<double> offsetChartDeterminant(std::span<const ManifoldVertex> chain, size_t m,
                                              const std::vector<bool>& specular) {
-    if (m == 0 || m + 1 >= chain.size() || specular.size() != chain.size()) return std::nullopt;
-    std::vector<size_t> kept; // interior vertices of the chart (x_m, o): m and those holding an offset
+    if (m >= chain.size() || specular.size() != chain.size()) return std::nullopt;
+    const bool interior = m > 0 && m + 1 < chain.size();
+    std::vector<size_t> kept; // interior vertices of the chart: m if interior, and those holding an offset
     for (size_t j = 1; j + 1 < chain.size(); ++j)
-        if (j == m || !specular[j]) kept.push_back(j);
-    if (kept.size() == 1) return 1.0;
+        if ((interior && j == m) || !specular[j]) kept.push_back(j);
+    if (kept.size() == (interior ? 1 : 0)) return 1.0;
     auto J = chainJacobian(chain);
     if (!J) return std::nullopt;
-    const size_t row = m - 1; // rows of A are the interior vertices 2 .. k-1
-    J->A.A[row] = Mat2{};
-    J->A.B[row] = Mat2::identity();
-    J->A.C[row] = Mat2{};
+    if (interior) {
+        const size_t row = m - 1; // rows of A are the interior vertices 2 .. k-1
+        J->A.A[row] = Mat2{};
+        J->A.B[row] = Mat2::identity();
+        J->A.C[row] = Mat2{};
+    }
     const auto lu = BlockTridiagonalLU::factor(J->A);
     if (!lu) return std::nullopt;
     double det = 0;

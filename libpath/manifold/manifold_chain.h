@@ -39,8 +39,10 @@ struct ChainJacobian {
 // vertex m moves freely and whose other interior vertices keep their constraint values: 0 where
 // specular[j], the offset o_j where not (glossy vertices treated as specular). A over the interior
 // with m's rows replaced by [0 I 0] is d(x_m, c) / dx; its inverse without the specular vertices'
-// rows and columns maps (x_m, o) to (x_m, x_held). 1 when no vertex holds an offset; nothing when A is
-// singular or a constraint is undefined. `specular` has one entry per chain vertex (endpoints ignored).
+// rows and columns maps (x_m, o) to (x_m, x_held). m may be an endpoint (0 or k - 1: the moved vertex
+// is the chain's end, fixed like the other end in this chart): then |det d x_held / d o_held|. 1 when
+// no vertex holds an offset; nothing when A is singular or a constraint is undefined. `specular` has
+// one entry per chain vertex (endpoints ignored).
 [[nodiscard]] std::optional<double> offsetChartDeterminant(std::span<const ManifoldVertex> chain, size_t m,
                                                            const std::vector<bool>& specular);
 

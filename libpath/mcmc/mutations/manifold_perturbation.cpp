@@ -4,6 +4,7 @@
 
 #include "manifold/chains_in_path.h"
 #include "math/error.h"
+#include "math/frame.h"
 #include "math/numeric.h"
 #include "manifold/specular_constraint.h"
 #include "path/scatter.h"
@@ -24,6 +25,11 @@ constexpr double MaxConcentration = 1e8;
 
 int nonSpecularCount(const MarkovPath& x) {
     return int(std::count_if(x.v.begin(), x.v.end(), [](const PathVertex& v) { return !isSpecular(v); }));
+}
+
+// A light vertex whose position the endpoint move can carry: on an area emitter's shape.
+bool movableLight(const PathVertex& v) {
+    return v.type == VertexType::Light && !v.infinite && v.emitter && v.emitter->shape >= 0 && v.isOnSurface();
 }
 
 RejectCause rejectionOf(WalkFailure f) {
@@ -126,6 +132,13 @@ std::optional<ManifoldPerturbation::Stages> ManifoldPerturbation::chooseStages(c
     };
     Stages s;
     s.a = a;
+    // The light's position instead of its direction, half of the time where it can move (a choice that
+    // depends on the emitter, which the perturbation keeps).
+    if (a == 0 && step == 1 && movableLight(x.v[0]) && rng.nextDouble() < 0.5) {
+        s.endpoint = true;
+        s.c = nextNonSpecular(0);
+        return s;
+    }
     s.b = nextNonSpecular(a);
     if (s.b <= 0 || s.b >= k) return std::nullopt;
     s.c = nextNonSpecular(s.b);
@@ -146,6 +159,29 @@ VonMisesFisher ManifoldPerturbation::kernel(const MarkovPath& path, const Stages
     // a lobe of width 1 / sqrt(kappa) would turn into a density error of sqrt(kappa) 1e-7 (1e-3 here).
     const VonMisesFisher lobe = VonMisesFisher::withPeak(lambda2_ * std::max(p, 1 / (4 * Pi)));
     return {std::min(lobe.kappa, MaxConcentration)};
+}
+
+double ManifoldPerturbation::positionSigma(const MarkovPath& path) const {
+    const PathVertex& light = path.v[0];
+    double pdfPos = 0, pdfDir = 0;
+    light.emitter->pdfEmission(light.p(), light.ng(), light.directionTo(path.v[1]), pdfPos, pdfDir);
+    return pdfPos > 0 && std::isfinite(pdfPos) ? 1 / std::sqrt(2 * Pi * pdfPos * lambda2_) : 0.0;
+}
+
+std::optional<PathVertex> ManifoldPerturbation::movedLight(const MarkovPath& from, const Vec3& d,
+                                                           double& density) const {
+    const PathVertex& light = from.v[0];
+    const Vec3 n = light.ng();
+    const double sigma = positionSigma(from);
+    // From above the tangent plane (high enough for any curvature the offset spans) straight down.
+    const double lift = length(d) + 1e-4 * scene_.bounds.diagonal();
+    const auto hit = scene_.intersectHit(Ray{light.p() + d + n * lift, -n});
+    if (!(sigma > 0) || !hit || hit->shape != light.emitter->shape) return std::nullopt;
+    PathVertex moved = lightVertexAt(scene_, size_t(light.emitterIndex), Vec3(), Vec3(), hit->prim, hit->coords);
+    const double cosine = dot(n, moved.ng());
+    if (!(cosine > 0)) return std::nullopt; // the other side of the emitter
+    density = std::exp(-lengthSquared(d) / (2 * sigma * sigma)) / (2 * Pi * sigma * sigma) * cosine;
+    return moved;
 }
 
 double ManifoldPerturbation::deltaRunFactor(const MarkovPath& path, int held, int moving) const {
@@ -220,6 +256,16 @@ double ManifoldPerturbation::offsetFactor(const MarkovPath& path, const Stages& 
 }
 
 double ManifoldPerturbation::transitionDensity(const MarkovPath& from, const MarkovPath& to, const Stages& s) const {
+    if (s.endpoint) {
+        // The tangent offset that leads from `from`'s light point to `to`'s, if the projection reaches it.
+        const Vec3 n = from.v[0].ng(), diff = to.v[0].p() - from.v[0].p();
+        double density = 0;
+        const auto reached = movedLight(from, diff - n * dot(diff, n), density);
+        if (!reached || !(length(reached->p() - to.v[0].p()) <= ReverseWalkTolerance * scene_.bounds.diagonal()))
+            return 0;
+        const double J = offsetFactor(to, s);
+        return J > 0 ? stagesProbability(from, s) / J * density * deltaRunsFactor(to, s.a, s.c) : 0.0;
+    }
     const int next = s.a + s.step();
     const PathVertex& at = from.v[size_t(s.a)];
     const Vec3 was = at.directionTo(from.v[size_t(next)]);
@@ -279,20 +325,31 @@ void ManifoldPerturbation::propose(const MarkovPath& x, Pcg32& rng, Proposal& ou
             if (!isSpecular(x.v[size_t(i)])) return true;
         return false;
     };
-    // 2. Turn the direction at x_a and follow the chain after it to x_b'.
+    // 2. Turn the direction at x_a and follow the chain after it to x_b', or move the light's position.
     const PathVertex& at = x.v[size_t(s->a)];
-    const Vec3 current = at.directionTo(x.v[size_t(s->a + step)]);
-    const VonMisesFisher lobe = kernel(x, *s);
     const double u1 = rng.nextDouble(), u2 = rng.nextDouble();
-    const Vec3 dir = lobe.sample(current, u1, u2);
-    const double pdfDir = lobe.density(current, dir);
     out.y = x;
-    // The density multiplied while tracing a chain of delta vertices (specular_chain.h), for the tests'
-    // check against transitionDensity; a chain through held glossy vertices has its density only in the
-    // closed form of transitionDensity.
+    // The density multiplied while sampling (a chain of delta vertices step by step, specular_chain.h; the
+    // light's new position from its offset), for the tests' check against transitionDensity; a chain
+    // through held glossy vertices has its density only in the closed form of transitionDensity.
     std::optional<double> traced;
-    const bool turnedHolds = holdsGlossy(s->a, s->b);
-    if (!turnedHolds) {
+    if (s->endpoint) {
+        // Box-Muller: a 2-D Gaussian offset of standard deviation sigma in the tangent plane.
+        const Frame f = Frame::fromNormal(at.ng());
+        const double r = positionSigma(x) * std::sqrt(-2 * std::log1p(-u1)), phi = 2 * Pi * u2;
+        double sampled = 0;
+        const auto light = movedLight(x, (f.s * std::cos(phi) + f.t * std::sin(phi)) * r, sampled);
+        if (!light) {
+            out.failed = RejectCause::ConfigurationChanged;
+            return;
+        }
+        out.y.v[0] = *light;
+        traced = sampled;
+    } else if (!holdsGlossy(s->a, s->b)) {
+        const Vec3 current = at.directionTo(x.v[size_t(s->a + step)]);
+        const VonMisesFisher lobe = kernel(x, *s);
+        const Vec3 dir = lobe.sample(current, u1, u2);
+        const double pdfDir = lobe.density(current, dir);
         double sampled = 1;
         const Transport mode = step > 0 ? Transport::Importance : Transport::Radiance;
         if (const auto why = followChain(scene_, x.v, out.y.v, s->a, s->b, rayFrom(at, dir), pdfDir, mode, sampled)) {
@@ -300,9 +357,12 @@ void ManifoldPerturbation::propose(const MarkovPath& x, Pcg32& rng, Proposal& ou
             return;
         }
         traced = sampled;
-    } else if (const auto why = followHeldChain(x, out.y, *s, rayFrom(at, dir))) {
-        out.failed = why;
-        return;
+    } else {
+        const Vec3 current = at.directionTo(x.v[size_t(s->a + step)]);
+        if (const auto why = followHeldChain(x, out.y, *s, rayFrom(at, kernel(x, *s).sample(current, u1, u2)))) {
+            out.failed = why;
+            return;
+        }
     }
     // 3. Walk the chain from x_c (held) to x_b', then back (ME Sec. 5.1 step 4).
     if (std::abs(s->c - s->b) > 1) {

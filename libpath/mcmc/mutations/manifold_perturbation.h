@@ -18,6 +18,13 @@
 // density with which x_a samples w_o (its BSDF, the light's emission or the camera's ray), at least
 // 1 / (4 pi) (Mitsuba's floor), taken at each state: T(y -> x) uses the concentration of y.
 //
+// Endpoint. When x_a is the light vertex on an area emitter and the step goes toward the eye, half of the
+// time its position moves instead (ME Sec. 5.1): a 2-D Gaussian offset d in the tangent plane of x_a
+// (standard deviation positionSigma), projected back onto the emitter along -n(x_a) (the first surface
+// below, which must be the emitter's shape), and the chain up to x_c (held) walked to it; b = a. The
+// surface density of the new point is N(d) |n(x_a) . n(x_a')|, and the reverse kernel must reach x_a
+// from x_a' the same way (checked by casting that ray).
+//
 // Glossy chains (offset manifolds, ME Sec. 5.2 and App. A1). Walking from x_a toward x_b, each
 // non-delta vertex passed is treated as specular with probability psi (specularProbability: 1 for delta
 // vertices, 0 for diffuse ones and the endpoints, from the roughness in between); the first one that is
@@ -44,8 +51,7 @@
 // Known limit: walks through held glossy vertices on veach-bidir's curved lamp shade (a triangle mesh)
 // come back less often than delta chains (8 % of walks not reversible against 2 %): those proposals are
 // rejected, not biased; the cause is not settled (a frame field independent of the triangles' uv charts
-// did not change it). Not built yet: the endpoint position perturbation (light and aperture points move
-// only through the bidirectional mutation).
+// did not change it). Not built yet: the aperture's position (lt's camera is a pinhole).
 #pragma once
 
 #include <atomic>
@@ -74,7 +80,8 @@ public:
     // (indices light to eye; b between a and c).
     struct Stages {
         int a = 0, b = 0, c = 0;
-        [[nodiscard]] int step() const { return b > a ? 1 : -1; }
+        bool endpoint = false; // x_a (the light vertex) moves on its emitter; then b = a
+        [[nodiscard]] int step() const { return c > a ? 1 : -1; }
     };
     // The stages of a proposal from a suitable x, drawn as the header comment says (the first numbers
     // propose() draws); nothing when the classification left x_b on the path's end.
@@ -92,6 +99,9 @@ public:
 
     // The direction kernel of a state at x_a.
     [[nodiscard]] VonMisesFisher kernel(const MarkovPath& path, const Stages& s) const;
+    // The endpoint kernel's standard deviation at the light vertex of `path`: 1 / sqrt(2 pi p lambda^2), p
+    // the emitter's area density of its position, so that the Gaussian's peak is lambda^2 p (ME Sec. 5.1).
+    [[nodiscard]] double positionSigma(const MarkovPath& path) const;
     // T~(from -> to) (header comment), from the two states alone; 0 when a Jacobian is singular.
     [[nodiscard]] double transitionDensity(const MarkovPath& from, const MarkovPath& to, const Stages& s) const;
 
@@ -107,6 +117,9 @@ private:
     // The stripped density of x_{a+-1} .. x_b given the direction density at x_a (the bracket and the
     // turned chain's runs of the header comment).
     [[nodiscard]] double turnedChainDensity(const MarkovPath& path, const Stages& s, double pdfDir) const;
+    // The endpoint move's new light vertex for the tangent offset d at `from`'s light vertex, or nothing when
+    // the projection along -n misses the emitter; `density` is set to its surface density N(d) |cos|.
+    [[nodiscard]] std::optional<PathVertex> movedLight(const MarkovPath& from, const Vec3& d, double& density) const;
     // The turned chain through held glossy vertices: from `ray` (leaving x_a) to x_b', each vertex
     // scattering about its held microfacet normal (manifold/manifold_walk.h scatterHeld) on the same shape.
     [[nodiscard]] std::optional<RejectCause> followHeldChain(const MarkovPath& x, MarkovPath& y, const Stages& s,

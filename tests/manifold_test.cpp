@@ -2,7 +2,10 @@
 // constraints, their Jacobian blocks, tangent maps, the generalized geometry term and the manifold walk.
 #include <catch2/catch.hpp>
 
+#include <array>
 #include <cmath>
+
+#include <Eigen/Dense>
 
 #include "bsdf/half_vector.h"
 #include "manifold/manifold_chain.h"
@@ -556,42 +559,24 @@ void solveHeld(ManifoldChain& chain, const std::vector<Vec2>& target) {
 double heldDeterminantByDifferences(const ManifoldChain& chain, const std::vector<size_t>& held) {
     const auto J = chainJacobian(chain);
     REQUIRE(J);
-    const size_t n = 2 * held.size();
-    std::vector<double> D(n * n);
+    const auto n = Eigen::Index(2 * held.size());
+    Eigen::MatrixXd D(n, n);
     const double h = 1e-6;
-    for (size_t c = 0; c < n; ++c) {
+    for (Eigen::Index c = 0; c < n; ++c) {
         std::array<ManifoldChain, 2> moved{chain, chain};
         for (int s = 0; s < 2; ++s) {
             std::vector<Vec2> target = J->values;
-            Vec2& o = target[held[c / 2] - 1];
+            Vec2& o = target[held[size_t(c / 2)] - 1];
             (c % 2 == 0 ? o.x : o.y) += s == 0 ? h : -h;
             solveHeld(moved[size_t(s)], target);
         }
-        for (size_t r = 0; r < n; ++r) {
-            const ManifoldVertex& v = chain[held[r / 2]];
-            const Vec3 dp = moved[0][held[r / 2]].p - moved[1][held[r / 2]].p;
-            D[r * n + c] = dot(dp, r % 2 == 0 ? v.dpdu : v.dpdv) / (2 * h);
+        for (Eigen::Index r = 0; r < n; ++r) {
+            const size_t j = held[size_t(r / 2)];
+            const Vec3 dp = moved[0][j].p - moved[1][j].p;
+            D(r, c) = dot(dp, r % 2 == 0 ? chain[j].dpdu : chain[j].dpdv) / (2 * h);
         }
     }
-    // Gaussian elimination with partial pivoting.
-    double det = 1;
-    for (size_t k = 0; k < n; ++k) {
-        size_t p = k;
-        for (size_t i = k + 1; i < n; ++i)
-            if (std::abs(D[i * n + k]) > std::abs(D[p * n + k])) p = i;
-        if (p != k) {
-            for (size_t j = 0; j < n; ++j)
-                std::swap(D[k * n + j], D[p * n + j]);
-            det = -det;
-        }
-        det *= D[k * n + k];
-        for (size_t i = k + 1; i < n; ++i) {
-            const double f = D[i * n + k] / D[k * n + k];
-            for (size_t j = k; j < n; ++j)
-                D[i * n + j] -= f * D[k * n + j];
-        }
-    }
-    return std::abs(det);
+    return std::abs(D.determinant());
 }
 
 } // namespace

@@ -327,6 +327,7 @@ void ManifoldPerturbation::propose(const MarkovPath& x, Pcg32& rng, Proposal& ou
     };
     // 2. Turn the direction at x_a and follow the chain after it to x_b', or move the light's position.
     const PathVertex& at = x.v[size_t(s->a)];
+    const Vec3 current = at.directionTo(x.v[size_t(s->a + step)]);
     const double u1 = rng.nextDouble(), u2 = rng.nextDouble();
     out.y = x;
     // The density multiplied while sampling (a chain of delta vertices step by step, specular_chain.h; the
@@ -346,7 +347,6 @@ void ManifoldPerturbation::propose(const MarkovPath& x, Pcg32& rng, Proposal& ou
         out.y.v[0] = *light;
         traced = sampled;
     } else if (!holdsGlossy(s->a, s->b)) {
-        const Vec3 current = at.directionTo(x.v[size_t(s->a + step)]);
         const VonMisesFisher lobe = kernel(x, *s);
         const Vec3 dir = lobe.sample(current, u1, u2);
         const double pdfDir = lobe.density(current, dir);
@@ -358,7 +358,6 @@ void ManifoldPerturbation::propose(const MarkovPath& x, Pcg32& rng, Proposal& ou
         }
         traced = sampled;
     } else {
-        const Vec3 current = at.directionTo(x.v[size_t(s->a + step)]);
         if (const auto why = followHeldChain(x, out.y, *s, rayFrom(at, kernel(x, *s).sample(current, u1, u2)))) {
             out.failed = why;
             return;

@@ -3,6 +3,7 @@
 // on the thread count.
 #pragma once
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 
@@ -66,11 +67,17 @@ private:
     uint64_t state_ = 0, inc_ = 0;
 };
 
-// A standard normal draw by Box-Muller (1 - u keeps the logarithm finite), for synthetic noise in tests
-// and benchmarks: the same numbers on every platform, unlike std::normal_distribution.
+// Two independent standard normal values from two uniforms in [0, 1) by Box-Muller (1 - u keeps the
+// logarithm finite): the same numbers on every platform, unlike std::normal_distribution.
+[[nodiscard]] inline std::array<double, 2> standardNormalPair(double u, double v) {
+    const double r = std::sqrt(-2 * std::log(1 - u));
+    return {r * std::cos(TwoPi * v), r * std::sin(TwoPi * v)};
+}
+
+// One standard normal draw (the first of the pair).
 [[nodiscard]] inline double standardNormal(Pcg32& rng) {
-    const double u = 1 - rng.nextDouble(), v = rng.nextDouble();
-    return std::sqrt(-2 * std::log(u)) * std::cos(TwoPi * v);
+    const double u = rng.nextDouble(), v = rng.nextDouble();
+    return standardNormalPair(u, v)[0];
 }
 
 } // namespace lt

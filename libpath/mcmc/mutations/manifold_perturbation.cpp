@@ -335,11 +335,11 @@ void ManifoldPerturbation::propose(const MarkovPath& x, Pcg32& rng, Proposal& ou
     // through held glossy vertices has its density only in the closed form of transitionDensity.
     std::optional<double> traced;
     if (s->endpoint) {
-        // Box-Muller: a 2-D Gaussian offset of standard deviation sigma in the tangent plane.
+        // A 2-D Gaussian offset of standard deviation sigma in the tangent plane.
         const Frame f = Frame::fromNormal(at.ng());
-        const double r = positionSigma(x) * std::sqrt(-2 * std::log1p(-u1)), phi = 2 * Pi * u2;
+        const auto g = standardNormalPair(u1, u2);
         double sampled = 0;
-        const auto light = movedLight(x, (f.s * std::cos(phi) + f.t * std::sin(phi)) * r, sampled);
+        const auto light = movedLight(x, (f.s * g[0] + f.t * g[1]) * positionSigma(x), sampled);
         if (!light) {
             out.failed = RejectCause::ConfigurationChanged;
             return;

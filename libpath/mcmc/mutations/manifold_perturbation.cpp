@@ -438,7 +438,8 @@ NormalChange measureNormalChange(const Scene& scene, double lambda, std::span<co
         const auto s = mutation.chooseStages(x, copy);
         Proposal p;
         mutation.propose(x, rng, p);
-        if (p.failed || !s) continue;
+        // The light's endpoint move has no x_b between two vertices: no microfacet normal to follow.
+        if (p.failed || !s || s->endpoint) continue;
         const auto before = normalAt(x, s->b), after = normalAt(p.y, s->b);
         if (!before || !after) continue;
         sum += std::acos(std::clamp(dot(*before, *after), -1.0, 1.0));

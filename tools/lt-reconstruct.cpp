@@ -6,6 +6,7 @@
 #include <optional>
 #include <sstream>
 #include <thread>
+#include <variant>
 
 #include "common/info.h"
 #include "common/progress.h"
@@ -75,7 +76,9 @@ int main(int argc, char** argv) {
         "Input: channels primal.R/G/B, dx.R/G/B, dy.R/G/B and optionally direct.R/G/B (directly visible emitters,\n"
         "kept out of the solve and added back) of an lt buffer file or a multi-layer EXR; or separate images with\n"
         "--primal, --dx, --dy (each with R, G, B or its layer's channels). Output by extension: .exr, or an lt\n"
-        "buffer file (.lts, - for stdout) with channels R, G, B and the solver statistics in a STAT table.",
+        "buffer file (.lts, - for stdout) with channels R, G, B and the solver statistics in a STAT table. From an\n"
+        "lt buffer file to an lt buffer file every progress snapshot (lt-gradient --snapshots) is reconstructed\n"
+        "too, its times increased by its reconstruction's, so lt-error measures reconstructed images against time.",
         "lt-reconstruct"};
     std::string input, output, primalPath, dxPath, dyPath, directPath, normText = "l2", solverText = "auto";
     lt::ReconstructSettings settings;
@@ -133,36 +136,16 @@ int main(int argc, char** argv) {
                                                      : lt::PoissonSolver::Auto;
         settings.threads = threads > 0 ? threads : int(std::max(1u, std::thread::hardware_concurrency()));
 
-        lt::GradientImage image;
-        nlohmann::json sourceInfo;
-        std::string sourceName;
-        if (!input.empty()) {
-            lt::BufferSource source = lt::loadBuffer(input);
-            image = lt::gradientImageFromBuffer(source.buffer, source.name);
-            sourceInfo = source.info;
-            sourceName = source.name;
-        } else {
-            const lt::BufferSource p = lt::loadBuffer(primalPath), dx = lt::loadBuffer(dxPath),
-                                   dy = lt::loadBuffer(dyPath);
-            std::optional<lt::BufferSource> direct;
-            if (!directPath.empty()) direct = lt::loadBuffer(directPath);
-            image = lt::gradientImageFromLayers({&p.buffer, p.name}, {&dx.buffer, dx.name}, {&dy.buffer, dy.name},
-                                                direct ? std::optional<lt::LayerSource>({&direct->buffer, direct->name})
-                                                       : std::nullopt);
-            sourceName = p.name;
-        }
-
         lt::tool::Progress progress("lt-reconstruct", quiet);
         lt::ReconstructStatistics stats;
-        const lt::file::Buffer result =
-            lt::reconstructScreenedPoisson(image, settings, stats, [&](int done, int total) {
+        auto solve = [&](const lt::GradientImage& image) {
+            return lt::reconstructScreenedPoisson(image, settings, stats, [&](int done, int total) {
                 progress.update(double(done) / total,
                                 std::to_string(done) + " of " + std::to_string(total) + " linear solves");
             });
-        progress.finish();
-
+        };
         nlohmann::json info = lt::tool::makeInfo("lt-reconstruct", argc, argv,
-                                                 {{"norm", stats.norm},
+                                                 {{"norm", normText},
                                                   {"alpha", settings.alpha},
                                                   {"iterations", settings.irlsIterations},
                                                   {"irls_reg", settings.irlsRegularizer},
@@ -171,24 +154,76 @@ int main(int argc, char** argv) {
                                                   {"solver", solverText},
                                                   {"threads", settings.threads}},
                                                  nullptr);
-        info["input"] = sourceName;
-        if (sourceInfo.is_object() && sourceInfo.contains("scene")) info["scene"] = sourceInfo["scene"];
-        info["reconstruct"] = toJson(stats);
-        if (isExrName(output)) {
-            lt::writeExr(output, result, info);
-        } else {
+        uint32_t width = 0, height = 0;
+        if (!input.empty() && (input == "-" || !lt::isExrFile(input)) && !isExrName(output)) {
+            // An lt buffer file into an lt buffer file: streamed, every snapshot reconstructed on the way.
+            lt::file::Reader reader(input, lt::file::FileKind::Buffer);
+            info["input"] = reader.name();
+            if (reader.info().is_object() && reader.info().contains("scene")) info["scene"] = reader.info()["scene"];
             lt::file::Writer writer(output, lt::file::FileKind::Buffer, info);
-            writer.writeBuffer(result);
+            std::optional<lt::file::Buffer> last, lastSnapshot;
+            size_t snapshots = 0;
+            for (;;) {
+                lt::file::Chunk chunk = reader.next();
+                if (std::holds_alternative<lt::file::End>(chunk)) break;
+                if (auto* b = std::get_if<lt::file::Buffer>(&chunk)) last = std::move(*b);
+                if (auto* snap = std::get_if<lt::file::Snapshot>(&chunk)) {
+                    ++snapshots;
+                    const lt::GradientImage image = lt::gradientImageFromBuffer(
+                        snap->buffer, reader.name() + " (snapshot " + std::to_string(snapshots) + ")");
+                    lt::file::Snapshot out = *snap;
+                    out.buffer = solve(image);
+                    // The image of this snapshot cost its render time and this reconstruction.
+                    out.wallSeconds += stats.seconds;
+                    out.cpuSeconds += stats.seconds;
+                    writer.writeSnapshot(out);
+                    lastSnapshot = std::move(snap->buffer);
+                }
+            }
+            if (!last && !lastSnapshot) throw lt::Error(reader.name() + ": holds no buffer (no BUFR or SNAP chunk)");
+            const lt::GradientImage image = lt::gradientImageFromBuffer(last ? *last : *lastSnapshot, reader.name());
+            width = image.width;
+            height = image.height;
+            writer.writeBuffer(solve(image));
             writer.writeStats(toStatTable(stats));
             writer.finish();
+        } else {
+            lt::GradientImage image;
+            if (!input.empty()) {
+                lt::BufferSource source = lt::loadBuffer(input);
+                image = lt::gradientImageFromBuffer(source.buffer, source.name);
+                info["input"] = source.name;
+                if (source.info.is_object() && source.info.contains("scene")) info["scene"] = source.info["scene"];
+            } else {
+                const lt::BufferSource p = lt::loadBuffer(primalPath), dx = lt::loadBuffer(dxPath),
+                                       dy = lt::loadBuffer(dyPath);
+                std::optional<lt::BufferSource> direct;
+                if (!directPath.empty()) direct = lt::loadBuffer(directPath);
+                image = lt::gradientImageFromLayers(
+                    {&p.buffer, p.name}, {&dx.buffer, dx.name}, {&dy.buffer, dy.name},
+                    direct ? std::optional<lt::LayerSource>({&direct->buffer, direct->name}) : std::nullopt);
+                info["input"] = p.name;
+            }
+            width = image.width;
+            height = image.height;
+            const lt::file::Buffer result = solve(image);
+            info["reconstruct"] = toJson(stats);
+            if (isExrName(output)) {
+                lt::writeExr(output, result, info);
+            } else {
+                lt::file::Writer writer(output, lt::file::FileKind::Buffer, info);
+                writer.writeBuffer(result);
+                writer.writeStats(toStatTable(stats));
+                writer.finish();
+            }
         }
+        progress.finish();
         if (!quiet) {
             std::ostringstream residual; // the accuracy of Eigen CG or DCT, which measure it
             if (stats.solverUsed == lt::PoissonSolver::EigenCg || stats.solverUsed == lt::PoissonSolver::Cosine)
                 residual << ", relative residual <= " << stats.linearResidual;
-            std::cerr << "lt-reconstruct: " << stats.norm << ", alpha " << stats.alpha << ", " << image.width << "x"
-                      << image.height << ": "
-                      << (stats.irlsIterations ? std::to_string(stats.irlsIterations) + " IRLS steps, " : "")
+            std::cerr << "lt-reconstruct: " << stats.norm << ", alpha " << stats.alpha << ", " << width << "x" << height
+                      << ": " << (stats.irlsIterations ? std::to_string(stats.irlsIterations) + " IRLS steps, " : "")
                       << stats.solves << " solves with " << stats.solver << " (" << stats.solverReason << "), "
                       << stats.solverIterations << " iterations, " << stats.linearIterations
                       << " linear solver iterations" << residual.str() << "; cost " << stats.initialCost << " -> "

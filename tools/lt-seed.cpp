@@ -127,17 +127,7 @@ int main(int argc, char** argv) {
         const double pixels = double(film.width()) * double(film.height());
         const double samplesPerPixel = double(stats.samples) / pixels;
         writer.writeBuffer(film.toBuffer());
-        // How the run went: INFO is written before the work, so times and counts go in a STAT table.
-        writer.writeStats(lt::file::valueTable("run", {{"samples", double(stats.samples)},
-                                                       {"spp", samplesPerPixel},
-                                                       {"passes", double(stats.passes)},
-                                                       {"wall_seconds", stats.wallSeconds},
-                                                       {"cpu_seconds", stats.cpuSeconds},
-                                                       {"rays", double(stats.rays)},
-                                                       {"nonfinite_dropped", double(stats.health.nonFinite)},
-                                                       {"interrupted", stats.interrupted ? 1.0 : 0.0},
-                                                       {"snapshots", double(stats.snapshots)},
-                                                       {"snapshot_seconds", stats.snapshotSeconds}}));
+        writer.writeStats(lt::tool::renderRunTable(stats, pixels));
         writer.finish();
 
         if (pathWriter) {

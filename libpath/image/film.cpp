@@ -57,12 +57,13 @@ void SampleFilm::merge(const TileResult& tile) {
     for (const auto& s : tile.splats)
         addSplat(s, window_.y0, window_.y1);
     for (const auto& v : tile.planeValues) {
-        if (v.plane < 0 || size_t(v.plane) >= planeSums_.size() || v.x < window_.x0 || v.x >= window_.x1 ||
+        if (v.plane < -1 || v.plane >= int(planeSums_.size()) || v.x < window_.x0 || v.x >= window_.x1 ||
             v.y < window_.y0 || v.y >= window_.y1)
             continue; // off the stored window (a neighbour beyond the crop)
         const size_t dst = size_t(v.y - window_.y0) * size_t(width()) + size_t(v.x - window_.x0);
+        std::vector<double>& plane = v.plane < 0 ? sum_ : planeSums_[size_t(v.plane)];
         for (int c = 0; c < 3; ++c)
-            planeSums_[size_t(v.plane)][3 * dst + size_t(c)] += v.value[c];
+            plane[3 * dst + size_t(c)] += v.value[c];
     }
     lightPaths_ += tile.lightPaths;
 }

@@ -38,7 +38,8 @@ struct TileResult {
     std::vector<uint32_t> count; // camera samples per pixel of rect
     std::vector<Splat> splats; // anywhere on the film
     uint64_t lightPaths = 0;   // light subpaths traced (one per camera sample for BDPT)
-    // Values of the further planes, at pixels (full-film coordinates) that may lie outside rect.
+    // Values of the further planes (plane -1: the primal image), at pixels (full-film coordinates) that
+    // may lie outside rect.
     struct PlanePixel {
         int plane = 0, x = 0, y = 0;
         Spectrum value;

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "image/film.h"
 #include "math/spectrum.h"
 #include "math/vec.h"
 #include "path/sample_health.h"
@@ -18,8 +19,11 @@
 
 namespace lt {
 
-// A value for plane `plane` (an index into PixelEstimator::planes()) of the pixel (dx, dy) away from
-// the sample's own. The film averages each plane over the camera samples of the pixel it lands on.
+// A value for plane `plane` (an index into PixelEstimator::planes(), or PrimalPlane) of the pixel (dx, dy)
+// away from the sample's own. The film averages each plane over the camera samples of the pixel it lands on.
+// The gradient-domain estimators credit a neighbour's primal image with what a shifted path found there.
+inline constexpr int PrimalPlane = -1;
+
 struct PlaneValue {
     int plane = 0;
     int dx = 0, dy = 0;
@@ -37,6 +41,17 @@ struct PixelSample {
     const StrategyCallback* onPath = nullptr; // sees every joined path (seed paths of the Markov chains)
 };
 
+// A tile for estimators that reuse paths across the pixels of a tile (gradient-domain path reusing): the
+// loop hands over the tile's pixels and its result (sum and count laid out for `rect`, zero), and the
+// estimator fills them and the further planes.
+struct TileSample {
+    PixelRect rect;    // the tile's pixels, inside the film window
+    uint64_t seed = 0; // the run's seed
+    int pass = 0;      // the sample pass: every pixel lies in exactly one tile per pass
+    TileResult& result;
+    SampleHealth& health;
+};
+
 class PixelEstimator {
 public:
     virtual ~PixelEstimator() = default;
@@ -51,6 +66,12 @@ public:
     // The film's planes besides the primal image, by name as formats/SPEC.md spells them ("dx", "dy",
     // "direct"); none for BDPT and the path tracer.
     [[nodiscard]] virtual std::vector<std::string> planes() const { return {}; }
+
+    // T > 0: the estimator works a T x T tile at a time (estimateTile instead of estimate), and the loop
+    // moves the tile grid by a random offset every pass ([GDPR] Sec. 3.2, tile jitter). 0: pixel by pixel.
+    [[nodiscard]] virtual int reuseTileSize() const { return 0; }
+    // One sample for every pixel of the tile (only called when reuseTileSize() > 0).
+    virtual void estimateTile(const TileSample& tile) const { (void)tile; }
 };
 
 } // namespace lt

@@ -30,6 +30,12 @@ std::unique_ptr<PixelEstimator> makePixelEstimator(PixelMethod method, const Sce
     return std::make_unique<Bdpt>(scene, settings);
 }
 
+IndependentSampler pixelSampler(uint64_t seed, int pass, uint64_t pixel) {
+    // Initial state and stream both depend on the pixel: PCG streams that differ only in their increment
+    // are correlated (Vigna 2018).
+    return IndependentSampler(mixBits(mixBits(seed ^ mixBits(uint64_t(pass))) + pixel), pixel);
+}
+
 double seedWeight(const SampleFilm& film, const StrategyPath& path) {
     const double w = strategyWeight(path);
     if (path.t == 1) return w;
@@ -52,8 +58,11 @@ RenderStats render(const Scene& scene, const PixelEstimator& estimator, const Re
     if (film.planes() != estimator.planes())
         throw Error("the film's planes are not the estimator's (make the film with estimator.planes())");
     const PixelRect window = film.window();
-    const int ts = std::max(1, settings.tileSize);
-    const int tilesX = (window.width() + ts - 1) / ts, tilesY = (window.height() + ts - 1) / ts;
+    const int reuse = estimator.reuseTileSize();
+    const int ts = reuse > 0 ? reuse : std::max(1, settings.tileSize);
+    // A jittered grid needs one more tile per row and column to cover the window.
+    const int extra = reuse > 0 ? 1 : 0;
+    const int tilesX = (window.width() + ts - 1) / ts + extra, tilesY = (window.height() + ts - 1) / ts + extra;
     const uint64_t tilesPerPass = uint64_t(tilesX) * uint64_t(tilesY);
     const uint64_t maxPasses = settings.spp > 0 ? uint64_t(settings.spp) : UINT64_MAX;
 
@@ -89,9 +98,18 @@ RenderStats render(const Scene& scene, const PixelEstimator& estimator, const Re
                                                   const uint64_t tile = nextItem % tilesPerPass;
                                                   const int tx = int(tile % uint64_t(tilesX)),
                                                             ty = int(tile / uint64_t(tilesX));
-                                                  item->rect = {window.x0 + tx * ts, window.y0 + ty * ts,
-                                                                std::min(window.x1, window.x0 + (tx + 1) * ts),
-                                                                std::min(window.y1, window.y0 + (ty + 1) * ts)};
+                                                  int ox = window.x0, oy = window.y0;
+                                                  if (reuse > 0) { // the same grid offset for the whole pass
+                                                      const uint64_t j = mixBits(settings.seed ^ mixBits(pass + 1));
+                                                      ox -= int(j % uint64_t(ts));
+                                                      oy -= int((j >> 32) % uint64_t(ts));
+                                                  }
+                                                  item->rect = {std::max(window.x0, ox + tx * ts),
+                                                                std::max(window.y0, oy + ty * ts),
+                                                                std::min(window.x1, ox + (tx + 1) * ts),
+                                                                std::min(window.y1, oy + (ty + 1) * ts)};
+                                                  item->rect.x1 = std::max(item->rect.x0, item->rect.x1);
+                                                  item->rect.y1 = std::max(item->rect.y0, item->rect.y1);
                                                   ++nextItem;
                                                   return item;
                                               }) &
@@ -104,6 +122,12 @@ RenderStats render(const Scene& scene, const PixelEstimator& estimator, const Re
                         r.rect = item->rect;
                         r.sum.assign(r.rect.area() * 3, 0.0);
                         r.count.assign(r.rect.area(), 0);
+                        if (reuse > 0) {
+                            if (r.rect.area() > 0)
+                                estimator.estimateTile({r.rect, settings.seed, item->pass, r, item->health});
+                            EmbreeAccel::flushRayCount();
+                            return item;
+                        }
                         std::vector<Splat> splats;
                         std::vector<PlaneValue> planeValues;
                         uint64_t pixel = 0;
@@ -113,10 +137,7 @@ RenderStats render(const Scene& scene, const PixelEstimator& estimator, const Re
                         for (int y = r.rect.y0; y < r.rect.y1; ++y)
                             for (int x = r.rect.x0; x < r.rect.x1; ++x) {
                                 pixel = uint64_t(y) * uint64_t(scene.camera.film().width) + uint64_t(x);
-                                // Initial state and stream both depend on the pixel: PCG streams that
-                                // differ only in their increment are correlated (Vigna 2018).
-                                IndependentSampler sampler(
-                                    mixBits(mixBits(settings.seed ^ mixBits(uint64_t(item->pass))) + pixel), pixel);
+                                IndependentSampler sampler = pixelSampler(settings.seed, item->pass, pixel);
                                 const Vec2 raster = film.sampleRaster(x, y, sampler.next2D());
                                 splats.clear();
                                 planeValues.clear();

@@ -27,7 +27,7 @@ struct RenderSettings {
     double timeLimit = 0; // seconds; 0 = render exactly spp samples per pixel
     int threads = 0;      // 0 = all cores
     uint64_t seed = 0;
-    int tileSize = 32;
+    int tileSize = 32;          // ignored by estimators with their own tiles (PixelEstimator::reuseTileSize)
     SnapshotSchedule snapshots; // checked at the end of every complete pass
 };
 
@@ -39,6 +39,10 @@ struct RenderStats : RunRecord {
 // The estimator `method` names, for a scene and the path settings.
 [[nodiscard]] std::unique_ptr<PixelEstimator> makePixelEstimator(PixelMethod method, const Scene& scene,
                                                                  const PathSettings& settings);
+
+// The random numbers of one pixel's sample in one pass (pixel: y * film width + x, full film): the render
+// loop's, and those of estimators that work a tile at a time.
+[[nodiscard]] IndependentSampler pixelSampler(uint64_t seed, int pass, uint64_t pixel);
 
 // The resampling weight of a BDPT strategy path as a seed: strategyWeight (path/path_record.h), for
 // camera strategies divided by the sum of the pixel filters at its raster position (film.h

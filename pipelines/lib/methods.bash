@@ -5,8 +5,10 @@
 # seeds itself with BDPT inside its time and takes --strategies auto: Veach's perturbations, and the
 # manifold perturbation on scenes with specular chains); memlt
 # (path space with the bidirectional mutation and the manifold perturbation, as Jakob & Marschner define
-# MEMLT). Methods of tools that do not exist yet are refused by name.
-known_methods="pt bdpt mlt pssmlt mmlt memlt"
+# MEMLT); gpt, gdpr (lt-gradient --method gpt | gdpr, then lt-reconstruct --norm l2, the unbiased one, every
+# snapshot reconstructed) and gpt-l1, gdpr-l1 (the same with --norm l1); the gradient buffer is kept beside the
+# image as OUT.gradient.lts. Methods of tools that do not exist yet are refused by name.
+known_methods="pt bdpt mlt pssmlt mmlt memlt gpt gdpr gpt-l1 gdpr-l1"
 
 render_method() {
   local method="$1" file="$2" time="$3" seed="$4"; shift 4
@@ -18,8 +20,14 @@ render_method() {
     memlt)
       "$bin/lt-mutate" "$scene" --strategies bidirectional,manifold --time "$time" --seed "$seed" --snapshots doubling \
         -o "$file" -q "$@" ;;
-    hslt|portal|gpt|gdpr)
-      echo "$0: method '$method' needs a part that does not exist yet (half-vector/portal mutations, lt-gradient)" >&2; return 1 ;;
+    gpt|gdpr|gpt-l1|gdpr-l1)
+      local estimator="${method%-l1}" norm=l2 gradient="${file%.lts}.gradient.lts"
+      [ "$estimator" != "$method" ] && norm=l1
+      "$bin/lt-gradient" "$scene" --method "$estimator" --time "$time" --seed "$seed" --snapshots doubling \
+        -o "$gradient" -q "$@"
+      "$bin/lt-reconstruct" "$gradient" --norm "$norm" -o "$file" -q ;;
+    hslt|portal)
+      echo "$0: method '$method' needs a part that does not exist yet (half-vector or portal mutations)" >&2; return 1 ;;
     *) echo "$0: unknown method '$method' (known: $known_methods)" >&2; return 1 ;;
   esac
 }

@@ -17,7 +17,7 @@ check "the three public scenes are in scenes/ with their licences and references
 # Layer ranks, bottom to top; a folder may include its own rank or below. formats/ (the file format)
 # needs only math/ (lt::Error) and is needed by any layer.
 declare -A rank=([math]=0 [texture]=1 [bsdf]=2 [scene]=3 [path]=4 [image]=5 [sampling]=6
-                 [manifold]=7 [reconstruct]=7 [mcmc]=8)
+                 [manifold]=7 [reconstruct]=7 [gradient]=7 [mcmc]=8)
 layers_ok() {
   local ok=0 f dir inc
   while IFS=: read -r f inc; do

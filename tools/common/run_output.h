@@ -8,6 +8,7 @@
 
 #include "common/progress.h"
 #include "formats/ltfile.h"
+#include "sampling/render.h"
 #include "sampling/run_clock.h"
 
 namespace lt::tool {
@@ -40,6 +41,21 @@ inline RunSnapshotCallback snapshotWriter(file::Writer& writer) {
         snap.buffer = image;
         writer.writeSnapshot(snap);
     };
+}
+
+// The "run" STAT table of a render of `pixels` pixels (lt-seed, lt-gradient; formats/SPEC.md). INFO is
+// written before the work, so times and counts go here.
+inline file::StatTable renderRunTable(const RenderStats& stats, double pixels) {
+    return file::valueTable("run", {{"samples", double(stats.samples)},
+                                    {"spp", double(stats.samples) / pixels},
+                                    {"passes", double(stats.passes)},
+                                    {"wall_seconds", stats.wallSeconds},
+                                    {"cpu_seconds", stats.cpuSeconds},
+                                    {"rays", double(stats.rays)},
+                                    {"nonfinite_dropped", double(stats.health.nonFinite)},
+                                    {"interrupted", stats.interrupted ? 1.0 : 0.0},
+                                    {"snapshots", double(stats.snapshots)},
+                                    {"snapshot_seconds", stats.snapshotSeconds}});
 }
 
 } // namespace lt::tool

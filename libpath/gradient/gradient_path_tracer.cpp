@@ -1,0 +1,64 @@
+#include "gradient/gradient_path_tracer.h"
+
+#include "math/error.h"
+#include "scene/scene.h"
+
+namespace lt {
+
+namespace {
+
+enum Plane { Dx = 0, Dy = 1, Direct = 2 };
+
+} // namespace
+
+GradientPathTracer::GradientPathTracer(const Scene& scene, GradientSettings settings)
+    : scene_(scene), settings_(settings) {
+    if (settings_.paths.maxDepth == 0 || settings_.paths.maxDepth < -1)
+        throw Error("maxDepth must be -1 (unbounded) or at least 1");
+    const auto& f = scene.camera.film();
+    window_ = {f.cropX, f.cropY, f.cropX + f.cropWidth, f.cropY + f.cropHeight};
+}
+
+Spectrum GradientPathTracer::estimate(const Vec2& raster, SampleGenerator& sampler, PixelSample& out) const {
+    const BasePath base = traceBasePath(scene_, settings_.paths, settings_.shiftThreshold, raster,
+                                        primaryVertex(scene_, raster), sampler);
+    ++stats_.basePaths;
+    const std::vector<EndingTerm> own = baseEndingTerms(scene_, base);
+    std::vector<EndingTerm> shifted;
+    Spectrum primal;
+    static constexpr int offsets[4][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
+    std::vector<PlaneValue> values;
+    for (const auto& o : offsets) {
+        const int nx = out.x + o[0], ny = out.y + o[1];
+        std::vector<Spectrum> share(2);
+        if (nx < window_.x0 || nx >= window_.x1 || ny < window_.y0 || ny >= window_.y1) {
+            if (!shareOverPixels({&own}, share)) {
+                ++out.health.nonFinite;
+                return {};
+            }
+            primal += share[0];
+            continue;
+        }
+        stats_.add(shiftBasePath(scene_, base, primaryVertex(scene_, raster + Vec2(o[0], o[1])),
+                                 settings_.shiftThreshold, shifted));
+        if (!shareOverPixels({&own, &shifted}, share)) {
+            ++out.health.nonFinite;
+            return {};
+        }
+        primal += share[0];
+        values.push_back({PrimalPlane, o[0], o[1], share[1] * 0.25});
+        // Forward differences: dx(x, y) = I(x + 1, y) - I(x, y), stored at the left or upper pixel.
+        const bool forward = o[0] + o[1] > 0;
+        values.push_back({o[0] != 0 ? Dx : Dy, forward ? 0 : o[0], forward ? 0 : o[1],
+                          forward ? share[1] - share[0] : share[0] - share[1]});
+    }
+    if (!base.direct.isFinite()) {
+        ++out.health.nonFinite;
+        return {};
+    }
+    out.planes.insert(out.planes.end(), values.begin(), values.end());
+    out.planes.push_back({Direct, 0, 0, base.direct});
+    return primal * 0.25;
+}
+
+} // namespace lt

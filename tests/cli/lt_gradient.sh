@@ -1,0 +1,47 @@
+#!/usr/bin/env bash
+# lt-gradient from the command line: both methods write the planes lt-reconstruct reads, bit-identical data
+# whatever the thread count, snapshots that lt-reconstruct reconstructs and lt-error measures, Ctrl-C keeps
+# the work done, and nonsense options give one error line and no file.
+#   lt_gradient.sh BIN_DIR SOURCE_DIR
+source "$(dirname "${BASH_SOURCE[0]}")/lib.bash" "$@"
+tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
+scene="$src/tests/cli/tiny_box.xml"
+
+for m in gpt gdpr; do
+  "$bin/lt-gradient" "$scene" --method $m --spp 4 --threads 1 --seed 3 -o "$tmp/$m-1.lts" -q; code=$?
+  check "$m: exit 0, a complete file" '[ $code -eq 0 ] && [ "$(tail -c 16 "$tmp/$m-1.lts" | head -c 4)" = "END!" ]'
+  "$bin/lt-gradient" "$scene" --method $m --spp 4 --threads 2 --seed 3 -o "$tmp/$m-2.lts" -q
+  check "$m: same seed, 1 vs 2 threads: identical buffer" \
+    '[ "$(chunks "$tmp/$m-1.lts" | grep BUFR)" = "$(chunks "$tmp/$m-2.lts" | grep BUFR)" ]'
+  check "$m: the planes lt-reconstruct reads, and the shift statistics" '"$bin/lt-inspect" "$tmp/$m-1.lts" --json |
+    python3 -c "
+import json, sys
+d = json.load(sys.stdin)
+b = d[\"buffers\"][0]
+names = b[\"channels\"]
+assert names[:3] == [\"primal.R\", \"primal.G\", \"primal.B\"] and \"dx.R\" in names and \"direct.B\" in names, names
+t = [s for s in d[\"stats\"] if s[\"name\"] == \"shift\"][0]
+assert t[\"rows\"][1] == \"shifts\"
+"'
+  "$bin/lt-reconstruct" "$tmp/$m-1.lts" -o "$tmp/$m.exr" -q; code=$?
+  check "$m: lt-reconstruct reads it" '[ $code -eq 0 ] && [ "$(magic "$tmp/$m.exr" 4)" = "762f3101" ]'
+done
+
+"$bin/lt-gradient" "$scene" --method gdpr --time 2 --snapshots 0.2,0.5 -o - -q | "$bin/lt-reconstruct" - -o "$tmp/snap.lts" -q
+check "snapshots: reconstructed, each with its time" '[ "$(chunks "$tmp/snap.lts" | grep -c SNAP)" -eq 2 ]'
+"$bin/lt-seed" "$scene" --method pt --spp 64 -o "$tmp/ref.lts" -q
+check "lt-error measures the reconstructed snapshots" \
+  '[ "$("$bin/lt-error" "$tmp/snap.lts" --ref "$tmp/ref.lts" | grep -c SNAP)" -eq 2 ]'
+
+"$bin/lt-gradient" "$scene" --spp 100000 -o "$tmp/int.lts" -q & pid=$!
+sleep 2; kill -INT $pid; wait $pid; code=$?
+check "Ctrl-C: exit code 130, a complete file" '[ $code -eq 130 ] && [ "$(tail -c 16 "$tmp/int.lts" | head -c 4)" = "END!" ]'
+
+out=$("$bin/lt-gradient" "$scene" --method gpt --tile 4 -o "$tmp/x.lts" 2>&1); code=$?
+check "--tile with gpt: refused in one line" '[ $code -ne 0 ] && [ "$(echo "$out" | wc -l)" -eq 1 ] && echo "$out" | grep -q gdpr'
+out=$("$bin/lt-gradient" "$scene" --method bdpt -o "$tmp/x.lts" 2>&1); code=$?
+check "unknown method: refused" '[ $code -ne 0 ] && echo "$out" | grep -q method'
+"$bin/lt-gradient" "$scene" --rr-min 2 -o "$tmp/x.lts" >/dev/null 2>&1; code=$?
+check "--rr-min outside [0, 1]: refused" '[ $code -ne 0 ]'
+check "no output left behind by refused runs" '[ ! -e "$tmp/x.lts" ]'
+exit $fail

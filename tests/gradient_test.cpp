@@ -1,0 +1,501 @@
+// The gradient-domain estimators (libpath/gradient/): the shift mapping's identity and Jacobians, the
+// reuse of a two-pixel set against G-PT's pair (T-GR-1), unbiasedness of the primal image and of the
+// gradients against path tracing across tile borders (T-GR-3), the furnace (T-GR-4), and the bias of
+// Russian roulette without a floor (T-GR-5). Statistical tolerances come from the spread of independent
+// runs (Welch's t), never from observed values.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+#include "bsdf/dielectric.h"
+#include "bsdf/diffuse.h"
+#include "bsdf/half_vector.h"
+#include "bsdf/roughconductor.h"
+#include "bsdf/roughdielectric.h"
+#include "gradient/gradient_path_tracer.h"
+#include "gradient/path_reusing.h"
+#include "math/rng.h"
+#include "reconstruct/gradient_image.h"
+#include "sampling/render.h"
+#include "scene/scene.h"
+#include "test_util.h"
+#include "texture/texture.h"
+
+using namespace lt;
+
+namespace {
+
+// A vertex for the half-vector tests: position p, geometric and shading normal n, incident direction wi.
+BaseVertex vertexAt(const Bsdf& bsdf, const Vec3& p, const Vec3& n, const Vec3& wi) {
+    BaseVertex v;
+    v.si.p = p;
+    v.si.ng = normalize(n);
+    v.si.shading = Frame::fromNormal(v.si.ng);
+    v.bsdf = &bsdf;
+    v.wi = normalize(wi);
+    return v;
+}
+
+// Directions on the unit sphere: the solid angle of the small triangle (a, b, c), by the cross product.
+double smallSolidAngle(const Vec3& a, const Vec3& b, const Vec3& c) { return 0.5 * length(cross(b - a, c - a)); }
+
+GradientSettings settingsFor(const Scene& scene) {
+    GradientSettings gs;
+    gs.paths.maxDepth = scene.integrator.maxDepth;
+    gs.paths.rrDepth = scene.integrator.rrDepth;
+    return gs;
+}
+
+// One gradient-domain render: the planes as a gradient image (primal, dx, dy, direct).
+GradientImage renderGradient(const Scene& scene, const PixelEstimator& estimator, int spp, uint64_t seed) {
+    SampleFilm film(scene.camera, estimator.planes());
+    RenderSettings rs;
+    rs.spp = spp;
+    rs.seed = seed;
+    rs.threads = 2;
+    const RenderStats st = render(scene, estimator, rs, film, {}, nullptr);
+    REQUIRE(st.health.nonFinite == 0);
+    return gradientImageFromBuffer(film.toBuffer(), "test");
+}
+
+std::vector<float> renderPt(const Scene& scene, int spp, uint64_t seed) {
+    SampleFilm film(scene.camera);
+    RenderSettings rs;
+    rs.paths = settingsFor(scene).paths;
+    rs.spp = spp;
+    rs.seed = seed;
+    rs.threads = 2;
+    (void)render(scene, *makePixelEstimator(PixelMethod::PathTracing, scene, rs.paths), rs, film, {}, nullptr);
+    return film.develop();
+}
+
+// Mean luminance over square regions of `r` pixels of an image given per pixel (RGB at index i).
+template <class F> std::vector<double> regionMeans(int w, int h, int r, F&& rgb) {
+    const int rx = w / r, ry = h / r;
+    std::vector<double> out(size_t(rx * ry), 0.0);
+    for (int y = 0; y < ry * r; ++y)
+        for (int x = 0; x < rx * r; ++x)
+            out[size_t((y / r) * rx + x / r)] += rgb(x, y).luminance() / double(r * r);
+    return out;
+}
+
+struct MeanVar {
+    double mean = 0, var = 0;
+};
+
+MeanVar meanVar(const std::vector<std::vector<double>>& runs, size_t k) {
+    MeanVar m;
+    for (const auto& r : runs)
+        m.mean += r[k] / double(runs.size());
+    for (const auto& r : runs)
+        m.var += (r[k] - m.mean) * (r[k] - m.mean) / double(runs.size() - 1);
+    return m;
+}
+
+// Welch's test, region by region: |mean_a - mean_b| < 5 standard errors (about 10 degrees of freedom: a false
+// failure has probability ~5e-4 per region).
+void checkSameMeans(const std::vector<std::vector<double>>& a, const std::vector<std::vector<double>>& b) {
+    for (size_t k = 0; k < a[0].size(); ++k) {
+        CAPTURE(k);
+        const MeanVar ma = meanVar(a, k), mb = meanVar(b, k);
+        const double se = std::sqrt(ma.var / double(a.size()) + mb.var / double(b.size()));
+        CAPTURE(ma.mean, mb.mean, se);
+        CHECK(std::abs(ma.mean - mb.mean) <= 5 * se);
+    }
+}
+
+Spectrum at(const RgbPlanes& p, uint32_t w, int x, int y) {
+    const size_t i = size_t(y) * w + size_t(x);
+    return {p[0][i], p[1][i], p[2][i]};
+}
+
+} // namespace
+
+TEST_CASE("a base path shifted onto its own primary hit is itself", "[gradient]") {
+    for (const char* name : {"cornell-box", "veach-mis", "glass-box", "caustic-mirror"}) {
+        CAPTURE(name);
+        const auto scene = loadScene(test::shippedScene(name));
+        const GradientSettings gs = settingsFor(*scene);
+        Pcg32 rng(7, 1);
+        const auto& f = scene->camera.film();
+        int compared = 0, equal = 0;
+        for (int n = 0; n < 400; ++n) {
+            const Vec2 raster(f.cropX + rng.nextDouble() * f.cropWidth, f.cropY + rng.nextDouble() * f.cropHeight);
+            IndependentSampler sampler(uint64_t(n) + 1, 3);
+            const BasePath base =
+                traceBasePath(*scene, gs.paths, gs.shiftThreshold, raster, primaryVertex(*scene, raster), sampler);
+            const auto own = baseEndingTerms(*scene, base);
+            std::vector<EndingTerm> shifted;
+            (void)shiftBasePath(*scene, base, primaryVertex(*scene, raster), gs.shiftThreshold, shifted);
+            REQUIRE(shifted.size() == own.size());
+            for (size_t e = 0; e < own.size(); ++e) {
+                if (own[e].density == 0) continue;
+                ++compared;
+                // A reconnection recomputes the direction from hit points with float barycentrics, which turns it
+                // by up to ~1e-3 (bsdf/bsdf.h DeltaDirectionTolerance); near grazing the cosines change by
+                // about a percent.
+                const double tol = 2e-2 * (own[e].value.maxValue() + 1e-12);
+                bool same = std::abs(shifted[e].density - own[e].density) <= 2e-2 * own[e].density;
+                for (int c = 0; c < 3; ++c)
+                    same = same && std::abs(shifted[e].value[c] - own[e].value[c]) <= tol;
+                equal += same;
+            }
+        }
+        CAPTURE(compared, equal);
+        CHECK(compared > 400);
+        // A reconnection's shadow ray between the points of one traced ray can, very rarely, graze a neighbour.
+        CHECK(equal >= compared - compared / 1000);
+    }
+}
+
+TEST_CASE("the half-vector copy's Jacobian is the solid-angle ratio of finite differences", "[gradient]") {
+    const auto white = std::make_shared<ConstantTexture>(Spectrum(0.8));
+    const Diffuse diffuse(DiffuseParams{white});
+    RoughConductorParams rc;
+    rc.alphaU = rc.alphaV = 0.1;
+    const RoughConductor conductor(rc);
+    RoughDielectricParams rd;
+    rd.alphaU = rd.alphaV = 0.2;
+    const RoughDielectric glass(rd);
+    struct Case {
+        const char* name;
+        const Bsdf* bsdf;
+        Vec3 wiX, woX, wiY; // world; x has normal +z, y a tilted normal
+    };
+    const Vec3 grazing = normalize(Vec3(1, 0, 0.09)); // 85 degrees from the normal
+    const std::vector<Case> cases = {
+        {"diffuse", &diffuse, Vec3(0.3, 0.1, 1), Vec3(-0.5, 0.2, 1), Vec3(0.25, 0.15, 1)},
+        {"glossy reflection", &conductor, Vec3(0.3, 0.1, 1), Vec3(-0.35, -0.05, 1), Vec3(0.25, 0.2, 1)},
+        {"glossy reflection, grazing", &conductor, grazing, Vec3(-1, 0.02, 0.1), Vec3(1, 0.05, 0.12)},
+        {"refraction into glass", &glass, Vec3(0.3, 0.1, 1), Vec3(-0.2, -0.05, -1), Vec3(0.25, 0.2, 1)},
+        {"refraction out of glass", &glass, Vec3(0.1, 0.05, -1), Vec3(-0.2, -0.1, 1), Vec3(0.12, 0.0, -1)},
+        {"refraction, grazing incidence", &glass, grazing, Vec3(-0.6, 0, -1), Vec3(1, 0.03, 0.1)},
+    };
+    for (const auto& c : cases) {
+        CAPTURE(c.name);
+        const BaseVertex x = vertexAt(*c.bsdf, Vec3(0, 0, 0), Vec3(0, 0, 1), c.wiX);
+        const BaseVertex y = vertexAt(*c.bsdf, Vec3(0.1, 0, 0), Vec3(0.15, -0.05, 1), c.wiY);
+        const Vec3 wo = normalize(c.woX);
+        const auto base = copyHalfVector(x, x.wi, wo, false, y);
+        REQUIRE(base);
+        CHECK(base->jacobian > 0);
+        // A small triangle of directions around wo and its image.
+        const Frame around = Frame::fromNormal(wo);
+        const double eps = 1e-5;
+        const Vec3 a = wo, b = normalize(wo + eps * around.s), d = normalize(wo + eps * around.t);
+        const auto ya = copyHalfVector(x, x.wi, a, false, y), yb = copyHalfVector(x, x.wi, b, false, y),
+                   yd = copyHalfVector(x, x.wi, d, false, y);
+        REQUIRE((ya && yb && yd));
+        const double fd = smallSolidAngle(ya->wo, yb->wo, yd->wo) / smallSolidAngle(a, b, d);
+        CAPTURE(fd, base->jacobian);
+        CHECK(base->jacobian == Approx(fd).epsilon(1e-3));
+    }
+    SECTION("a delta lobe copies to the specular direction with Jacobian 1, and fails where it has no solution") {
+        const Dielectric smooth(DielectricParams{});
+        const BaseVertex x = vertexAt(smooth, Vec3(0, 0, 0), Vec3(0, 0, 1), Vec3(0.3, 0.1, 1));
+        const BaseVertex y = vertexAt(smooth, Vec3(0.1, 0, 0), Vec3(0.1, 0, 1), Vec3(-0.2, 0.3, 1));
+        const Vec3 mirror = normalize(Vec3(-0.3, -0.1, 1));
+        const auto r = copyHalfVector(x, x.wi, mirror, true, y);
+        REQUIRE(r);
+        CHECK(r->jacobian == 1);
+        const Vec3 n = y.si.ng;
+        CHECK(length(r->wo - (2 * dot(y.wi, n) * n - y.wi)) < 1e-9);
+        // From inside the glass at a grazing angle the refraction out has no solution (total internal
+        // reflection): the copy of a refraction fails.
+        const BaseVertex in = vertexAt(smooth, Vec3(0, 0, 0), Vec3(0, 0, 1), Vec3(0.1, 0, -1));
+        const auto out = refract(in.wi, Vec3(0, 0, 1), 1.000277 / 1.5046);
+        REQUIRE(out);
+        const BaseVertex tir = vertexAt(smooth, Vec3(0.1, 0, 0), Vec3(0, 0, 1), Vec3(1, 0, -0.2));
+        CHECK_FALSE(copyHalfVector(in, in.wi, *out, true, tir));
+    }
+}
+
+TEST_CASE("T-GR-1: reusing the paths of a two-pixel set is G-PT's pair estimator, bit for bit", "[gradient]") {
+    const auto scene = loadScene(test::shippedScene("veach-mis"));
+    scene->camera = scene->camera.withResolution(40, 30);
+    const GradientSettings gs = settingsFor(*scene);
+    for (int n = 0; n < 50; ++n) {
+        CAPTURE(n);
+        const Vec2 offset(0.5 + 0.3 * std::sin(n), 0.5 + 0.3 * std::cos(n));
+        const Vec2 p(5 + n % 30, 5 + n % 20);
+        std::vector<std::optional<BaseVertex>> primary = {primaryVertex(*scene, p + offset),
+                                                          primaryVertex(*scene, p + Vec2(1, 0) + offset)};
+        std::vector<BasePath> bases;
+        for (size_t k = 0; k < 2; ++k) {
+            IndependentSampler sampler(uint64_t(100 + n), k);
+            bases.push_back(traceBasePath(*scene, gs.paths, gs.shiftThreshold, p + Vec2(double(k), 0) + offset,
+                                          primary[k], sampler));
+        }
+        SampleHealth health;
+        const auto reused = reuseBasePaths(*scene, gs.shiftThreshold, primary, bases, {1.0, 1.0}, nullptr, health);
+        // G-PT: each base path with its one neighbour, weights p_i / (p_i + p_j |T'|) (Kettunen et al. Eq. 8).
+        std::vector<Spectrum> pair(2);
+        std::vector<EndingTerm> shifted;
+        const auto own0 = baseEndingTerms(*scene, bases[0]), own1 = baseEndingTerms(*scene, bases[1]);
+        if (!bases[0].vertices.empty()) {
+            (void)shiftBasePath(*scene, bases[0], primary[1], gs.shiftThreshold, shifted);
+            REQUIRE(shareOverPixels({&own0, &shifted}, pair));
+        }
+        if (!bases[1].vertices.empty()) {
+            (void)shiftBasePath(*scene, bases[1], primary[0], gs.shiftThreshold, shifted);
+            REQUIRE(shareOverPixels({&shifted, &own1}, pair));
+        }
+        for (int c = 0; c < 3; ++c) {
+            CHECK(reused[0][c] == pair[0][c]);
+            CHECK(reused[1][c] == pair[1][c]);
+        }
+    }
+}
+
+TEST_CASE("T-GR-3: G-PT and path reusing are unbiased: primal and gradients against path tracing", "[gradient]") {
+    // A diffuse scene, one with glossy plates and small lights, one with glass (half-vector copies).
+    for (const char* name : {"cornell-box", "veach-mis", "glass-box"}) {
+        CAPTURE(name);
+        const auto scene = loadScene(test::shippedScene(name));
+        scene->camera = scene->camera.withResolution(32, 32);
+        const GradientSettings gs = settingsFor(*scene);
+        const int runs = 16, w = 32, r = 8;
+        // Per run: region means of the image, and of its horizontal and vertical forward differences.
+        auto gradientRuns = [&](const PixelEstimator& est, int spp) {
+            std::array<std::vector<std::vector<double>>, 3> out;
+            for (int run = 0; run < runs; ++run) {
+                const GradientImage g = renderGradient(*scene, est, spp, 10 + uint64_t(run));
+                auto image = [&](int x, int y) { return at(g.primal, g.width, x, y) + at(*g.direct, g.width, x, y); };
+                out[0].push_back(regionMeans(w, w, r, image));
+                // dx plus the differences of the direct plane: the differences of the whole image.
+                out[1].push_back(regionMeans(w - 1, w, r, [&](int x, int y) {
+                    return at(g.dx, g.width, x, y) + image(x + 1, y) - image(x, y) - at(g.primal, g.width, x + 1, y) +
+                           at(g.primal, g.width, x, y);
+                }));
+                out[2].push_back(regionMeans(w, w - 1, r, [&](int x, int y) {
+                    return at(g.dy, g.width, x, y) + image(x, y + 1) - image(x, y) - at(g.primal, g.width, x, y + 1) +
+                           at(g.primal, g.width, x, y);
+                }));
+            }
+            return out;
+        };
+        std::array<std::vector<std::vector<double>>, 3> pt;
+        for (int run = 0; run < runs; ++run) {
+            const auto img = renderPt(*scene, 16, 500 + uint64_t(run));
+            auto px = [&](int x, int y) {
+                const size_t i = size_t(y * w + x);
+                return Spectrum(img[3 * i], img[3 * i + 1], img[3 * i + 2]);
+            };
+            pt[0].push_back(regionMeans(w, w, r, px));
+            pt[1].push_back(regionMeans(w - 1, w, r, [&](int x, int y) { return px(x + 1, y) - px(x, y); }));
+            pt[2].push_back(regionMeans(w, w - 1, r, [&](int x, int y) { return px(x, y + 1) - px(x, y); }));
+        }
+        {
+            INFO("G-PT");
+            const auto g = gradientRuns(GradientPathTracer(*scene, gs), 8);
+            for (int p = 0; p < 3; ++p) {
+                CAPTURE(p);
+                checkSameMeans(g[size_t(p)], pt[size_t(p)]);
+            }
+        }
+        for (int tile : {1, 3, 6}) {
+            INFO("path reusing, tile " << tile);
+            GradientSettings t = gs;
+            t.tile = tile;
+            const auto g = gradientRuns(PathReusing(*scene, t), 8);
+            for (int p = 0; p < 3; ++p) {
+                CAPTURE(p);
+                checkSameMeans(g[size_t(p)], pt[size_t(p)]);
+            }
+        }
+    }
+}
+
+TEST_CASE("T-GR-4: in the furnace every gradient is zero in expectation, at tile borders too", "[gradient]") {
+    test::TempDir dir;
+    const auto scene = loadScene(test::furnaceBox(dir, 0.5, 4));
+    const GradientSettings gs = settingsFor(*scene);
+    // Le * (1 + rho + rho^2 + rho^3) with the directly seen emission in the direct plane.
+    const double expected = 1 + 0.5 + 0.25 + 0.125;
+    for (int tile : {0, 3, 5}) { // 0: G-PT
+        CAPTURE(tile);
+        GradientSettings t = gs;
+        t.tile = tile;
+        const GradientImage g = tile == 0 ? renderGradient(*scene, GradientPathTracer(*scene, t), 16, 3)
+                                          : renderGradient(*scene, PathReusing(*scene, t), 16, 3);
+        // Every pixel estimates the same values: the spread over the pixels gives the standard errors. The
+        // tile grid moves every pass, so tile borders would show as a bias of the columns' and rows' means;
+        // the image's mean gradient is their sum.
+        double sp = 0, sp2 = 0, sx = 0, sx2 = 0, sy = 0, sy2 = 0;
+        size_t n = 0, ng = 0;
+        for (int y = 0; y < int(g.height); ++y)
+            for (int x = 0; x < int(g.width); ++x) {
+                const double v = (at(g.primal, g.width, x, y) + at(*g.direct, g.width, x, y)).luminance();
+                sp += v;
+                sp2 += v * v;
+                ++n;
+                if (x + 1 < int(g.width) && y + 1 < int(g.height)) {
+                    const double dx = at(g.dx, g.width, x, y).luminance(), dy = at(g.dy, g.width, x, y).luminance();
+                    sx += dx;
+                    sx2 += dx * dx;
+                    sy += dy;
+                    sy2 += dy * dy;
+                    ++ng;
+                }
+            }
+        auto se = [](double s, double s2, size_t k) {
+            const double m = s / double(k);
+            return std::sqrt(std::max(0.0, s2 / double(k) - m * m) / double(k - 1));
+        };
+        CAPTURE(sp / double(n), sx / double(ng), sy / double(ng));
+        CHECK(std::abs(sp / double(n) - expected) <= 5 * se(sp, sp2, n));
+        CHECK(std::abs(sx / double(ng)) <= 5 * se(sx, sx2, ng) + 1e-12);
+        CHECK(std::abs(sy / double(ng)) <= 5 * se(sy, sy2, ng) + 1e-12);
+    }
+}
+
+TEST_CASE("T-GR-5: path reusing's Russian roulette without a floor is biased where black base paths shift to light",
+          "[gradient]") {
+    // A floor of one-pixel black and white checks under a uniform sky, seen from above: a black check's base
+    // path carries nothing, its shift onto a white neighbour does. Without the floor q_min those base paths
+    // never survive and their share of the white pixels is lost; with it nothing is.
+    test::TempDir dir;
+    const std::string xml = dir.write("checks.xml", R"(<scene version="0.5.0">
+  <integrator type="path"><integer name="maxDepth" value="2"/></integrator>
+  <sensor type="perspective"><float name="fov" value="40"/>
+    <transform name="toWorld"><lookat origin="0,0,3" target="0,0,0" up="0,1,0"/></transform>
+    <film type="hdrfilm"><integer name="width" value="24"/><integer name="height" value="24"/>
+      <rfilter type="box"/></film>
+  </sensor>
+  <shape type="rectangle">
+    <bsdf type="diffuse"><texture type="checkerboard" name="reflectance">
+      <rgb name="color0" value="0.8"/><rgb name="color1" value="0"/>
+      <float name="uscale" value="6"/><float name="vscale" value="6"/></texture></bsdf>
+  </shape>
+  <emitter type="constant"><rgb name="radiance" value="1"/></emitter>
+</scene>)");
+    const auto scene = loadScene(xml);
+    GradientSettings gs = settingsFor(*scene);
+    gs.tile = 4;
+    const int runs = 6;
+    std::vector<std::vector<double>> pt, floor0, floor01;
+    for (int run = 0; run < runs; ++run) {
+        const auto img = renderPt(*scene, 16, 900 + uint64_t(run));
+        pt.push_back(regionMeans(24, 24, 24, [&](int x, int y) {
+            const size_t i = size_t(y * 24 + x);
+            return Spectrum(img[3 * i], img[3 * i + 1], img[3 * i + 2]);
+        }));
+        for (double qmin : {0.0, 0.1}) {
+            GradientSettings t = gs;
+            t.rrMin = qmin;
+            const GradientImage g = renderGradient(*scene, PathReusing(*scene, t), 16, 40 + uint64_t(run));
+            (qmin == 0 ? floor0 : floor01).push_back(regionMeans(24, 24, 24, [&](int x, int y) {
+                return at(g.primal, g.width, x, y) + at(*g.direct, g.width, x, y);
+            }));
+        }
+    }
+    checkSameMeans(floor01, pt);
+    const MeanVar a = meanVar(floor0, 0), b = meanVar(pt, 0);
+    CAPTURE(a.mean, b.mean);
+    CHECK(b.mean - a.mean > 5 * std::sqrt(a.var / runs + b.var / runs));
+}
+
+namespace {
+
+// The path of pixel m that the shift of base path x (pixel k) onto m's primary vertex produces when it
+// reconnects at the primary hit: m's primary vertex, then x's vertices from x_2 on, with m's own sampling
+// factors where its direction differs, its own light sample toward x's point on the light, and no Russian
+// roulette (the scene's rrDepth lies beyond the path).
+BasePath reconnectedPath(const Scene& scene, const BasePath& x, const BaseVertex& primary) {
+    BasePath y = x;
+    BaseVertex& y1 = y.vertices[0];
+    const BaseVertex& x1 = x.vertices[0];
+    y1.si = primary.si;
+    y1.wi = primary.wi;
+    y1.bsdf = primary.bsdf;
+    y1.emitter = primary.emitter;
+    auto scatter = [](BaseVertex& v, const Vec3& wo) {
+        const WorldBsdf wb = v.worldBsdf();
+        v.wo = wo;
+        v.fCos = wb.eval(v.wi, wo, Transport::Radiance) * std::abs(dot(wo, v.si.ng));
+        v.pdf = wb.pdf(v.wi, wo);
+    };
+    if (x1.scattered) scatter(y1, normalize(x.vertices[1].si.p - y1.si.p));
+    if (x1.light.emitter >= 0) {
+        BaseLightSample& l = y1.light;
+        const Emitter& em = *scene.emitters[size_t(l.emitter)];
+        l.wo = normalize(l.p - y1.si.p);
+        l.Le = em.evalSurface(l.p, l.n, -l.wo);
+        l.pdfLight = scene.emitterSelection.pmf(size_t(l.emitter)) * em.pdfDirect(y1.si.p, l.p, l.n, l.wo);
+        l.visible = unoccluded(scene, y1.si.endpoint(), {l.p, l.n, l.magnitude});
+    }
+    if (x1.scattered && y.vertices.size() > 1) {
+        BaseVertex& y2 = y.vertices[1];
+        y2.wi = normalize(y1.si.p - y2.si.p);
+        if (y2.scattered) scatter(y2, y2.wo);
+    }
+    return y;
+}
+
+} // namespace
+
+TEST_CASE("T-GR-2: a path's weights are the same from every pixel that can produce it", "[gradient]") {
+    // For the balance weights over a set of pixels to sum to one over the techniques that can produce a path,
+    // the shifts must compose: the weights computed from base path x in pixel k and from its shift y in pixel
+    // m must agree, technique by technique. Diffuse scene: every shift reconnects at the primary hit.
+    const auto scene = loadScene(test::shippedScene("cornell-box"));
+    scene->camera = scene->camera.withResolution(48, 48);
+    GradientSettings gs = settingsFor(*scene);
+    gs.paths.maxDepth = 4;
+    gs.paths.rrDepth = 10;
+    // Pixels 9 apart: the primary hits lie far apart, so Jacobians are far from 1 and a missing one shows.
+    const int size = 4, spacing = 9;
+    Pcg32 rng(3, 5);
+    int compared = 0;
+    for (int n = 0; n < 200; ++n) {
+        const Vec2 corner(2 + rng.nextUInt() % 16, 2 + rng.nextUInt() % 16), offset(rng.nextDouble(), rng.nextDouble());
+        auto pixel = [&](size_t j) {
+            return corner + Vec2(double(spacing * (j % size)), double(spacing * (j / size))) + offset;
+        };
+        std::vector<std::optional<BaseVertex>> primary;
+        for (size_t j = 0; j < size * size; ++j)
+            primary.push_back(primaryVertex(*scene, pixel(j)));
+        const size_t k = rng.nextUInt() % (size * size);
+        IndependentSampler sampler(uint64_t(n), 9);
+        const BasePath x = traceBasePath(*scene, gs.paths, gs.shiftThreshold, pixel(k), primary[k], sampler);
+        if (x.vertices.size() < 2 || !x.vertices[0].scattered) continue;
+        // The weights of every technique j for every ending, seen from a base path in pixel `own`.
+        auto weights = [&](const BasePath& base, size_t own) {
+            std::vector<std::vector<EndingTerm>> terms(primary.size());
+            for (size_t j = 0; j < primary.size(); ++j) {
+                if (j == own)
+                    terms[j] = baseEndingTerms(*scene, base);
+                else
+                    (void)shiftBasePath(*scene, base, primary[j], gs.shiftThreshold, terms[j]);
+            }
+            std::vector<std::vector<double>> w(terms[own].size(), std::vector<double>(primary.size(), 0.0));
+            for (size_t e = 0; e < w.size(); ++e) {
+                double sum = 0;
+                for (const auto& t : terms)
+                    sum += t[e].density;
+                for (size_t j = 0; j < primary.size(); ++j)
+                    w[e][j] = terms[j][e].density / sum;
+            }
+            return std::make_pair(w, terms);
+        };
+        const auto [wx, tx] = weights(x, k);
+        for (size_t m = 0; m < primary.size(); ++m) {
+            if (m == k || !primary[m]) continue;
+            std::vector<EndingTerm> probe;
+            const ShiftOutcome o = shiftBasePath(*scene, x, primary[m], gs.shiftThreshold, probe);
+            if (o.cause != ShiftCause::Reconnected || o.reconnectDepth != 1) continue;
+            const BasePath y = reconnectedPath(*scene, x, *primary[m]);
+            const auto [wy, ty] = weights(y, m);
+            for (size_t e = 0; e < wx.size(); ++e) {
+                // Where the path in pixel m carries light, its weights must agree.
+                if (ty[m][e].value.isBlack() || tx[m][e].value.isBlack()) continue;
+                ++compared;
+                for (size_t j = 0; j < primary.size(); ++j) {
+                    CAPTURE(n, m, e, j);
+                    CHECK(wy[e][j] == Approx(wx[e][j]).margin(2e-3).epsilon(2e-2));
+                }
+            }
+        }
+    }
+    CHECK(compared > 100);
+}

@@ -27,6 +27,7 @@ done
 [ -f "$scene" ] || { echo "$0: $scene: no such scene" >&2; exit 1; }
 out="${out:-compare-$(basename "$(dirname "$scene")")}"
 mkdir -p "$out"
+touch "$out/.started"
 
 source "$root/pipelines/lib/methods.bash"
 check_methods $methods || exit 1

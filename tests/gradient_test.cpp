@@ -36,6 +36,32 @@ BaseVertex vertexAt(const Bsdf& bsdf, const Vec3& p, const Vec3& n, const Vec3& 
     return v;
 }
 
+// A closed diffuse room with a smooth plastic ball, a thin glass pane, a rough metal ball, a point light, a
+// spot light and a small area light: delta lobes and delta lights in the shifts.
+std::string deltaRoom(const test::TempDir& dir) {
+    return dir.write("delta-room.xml", R"(<scene version="0.5.0">
+  <integrator type="path"><integer name="maxDepth" value="5"/></integrator>
+  <sensor type="perspective"><float name="fov" value="70"/>
+    <transform name="toWorld"><lookat origin="0,0,0.9" target="0,-0.1,-1" up="0,1,0"/></transform>
+    <film type="hdrfilm"><integer name="width" value="32"/><integer name="height" value="32"/><rfilter type="box"/></film>
+  </sensor>
+  <shape type="cube"><boolean name="flipNormals" value="true"/>
+    <bsdf type="diffuse"><rgb name="reflectance" value="0.6, 0.5, 0.4"/></bsdf></shape>
+  <shape type="sphere"><point name="center" x="-0.4" y="-0.6" z="-0.3"/><float name="radius" value="0.35"/>
+    <bsdf type="plastic"><rgb name="diffuseReflectance" value="0.2, 0.4, 0.7"/></bsdf></shape>
+  <shape type="sphere"><point name="center" x="0.45" y="-0.65" z="-0.5"/><float name="radius" value="0.3"/>
+    <bsdf type="roughconductor"><float name="alpha" value="0.15"/></bsdf></shape>
+  <shape type="rectangle">
+    <transform name="toWorld"><scale x="0.3" y="0.5"/><rotate y="1" angle="30"/><translate x="0.1" y="-0.3" z="0.1"/></transform>
+    <bsdf type="thindielectric"/></shape>
+  <emitter type="point"><point name="position" x="0.3" y="0.7" z="0"/><rgb name="intensity" value="2"/></emitter>
+  <emitter type="spot"><transform name="toWorld"><lookat origin="-0.7,0.8,0.5" target="-0.4,-0.6,-0.3"/></transform>
+    <rgb name="intensity" value="4"/><float name="cutoffAngle" value="25"/></emitter>
+  <shape type="sphere"><point name="center" x="-0.6" y="0.85" z="-0.6"/><float name="radius" value="0.08"/>
+    <emitter type="area"><rgb name="radiance" value="20"/></emitter></shape>
+</scene>)");
+}
+
 // Directions on the unit sphere: the solid angle of the small triangle (a, b, c), by the cross product.
 double smallSolidAngle(const Vec3& a, const Vec3& b, const Vec3& c) { return 0.5 * length(cross(b - a, c - a)); }
 
@@ -210,6 +236,36 @@ TEST_CASE("the half-vector copy's Jacobian is the solid-angle ratio of finite di
     }
 }
 
+TEST_CASE("the reconnection Jacobian is the solid-angle ratio of finite differences, grazing included", "[gradient]") {
+    // Directions from the base vertex x around the one toward z hit the plane through z; the offset vertex y
+    // sees those points under other directions. Their solid angles' ratio is d omega_y / d omega_x.
+    struct Case {
+        const char* name;
+        Vec3 x, y, z, n;
+    };
+    const std::vector<Case> cases = {
+        {"facing", Vec3(0, 0, 0), Vec3(0.3, 0.1, 0), Vec3(0.2, 0.1, 2), normalize(Vec3(0.1, 0, -1))},
+        {"oblique", Vec3(0, 0, 0), Vec3(-0.5, 0.4, 0.3), Vec3(1, 0.5, 1.5), normalize(Vec3(-0.6, 0.2, -0.5))},
+        {"grazing at z for x", Vec3(0, 0, 0), Vec3(0.2, -0.3, 0.5), Vec3(1, 0, 1), normalize(Vec3(0.05, 1, 0.02))},
+        {"far offset", Vec3(0, 0, 0), Vec3(3, 1, -1), Vec3(0.5, 0.2, 2), normalize(Vec3(0, 0.3, -1))},
+    };
+    for (const auto& c : cases) {
+        CAPTURE(c.name);
+        const Vec3 d = normalize(c.z - c.x);
+        const Frame around = Frame::fromNormal(d);
+        const double eps = 1e-6;
+        auto onPlane = [&](const Vec3& dir) { return c.x + dir * (dot(c.z - c.x, c.n) / dot(dir, c.n)); };
+        const Vec3 a = d, b = normalize(d + eps * around.s), e = normalize(d + eps * around.t);
+        const Vec3 pa = onPlane(a), pb = onPlane(b), pe = onPlane(e);
+        const double fd =
+            smallSolidAngle(normalize(pa - c.y), normalize(pb - c.y), normalize(pe - c.y)) / smallSolidAngle(a, b, e);
+        CAPTURE(fd);
+        CHECK(reconnectionJacobian(c.y, c.x, c.z, c.n) == Approx(fd).epsilon(1e-4));
+    }
+    // The base direction exactly in the plane: no density in solid angle, no offset technique.
+    CHECK(reconnectionJacobian(Vec3(0, 1, 0), Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)) == 0);
+}
+
 TEST_CASE("T-GR-1: reusing the paths of a two-pixel set is G-PT's pair estimator, bit for bit", "[gradient]") {
     const auto scene = loadScene(test::shippedScene("veach-mis"));
     scene->camera = scene->camera.withResolution(40, 30);
@@ -248,10 +304,12 @@ TEST_CASE("T-GR-1: reusing the paths of a two-pixel set is G-PT's pair estimator
 }
 
 TEST_CASE("T-GR-3: G-PT and path reusing are unbiased: primal and gradients against path tracing", "[gradient]") {
-    // A diffuse scene, one with glossy plates and small lights, one with glass (half-vector copies).
-    for (const char* name : {"cornell-box", "veach-mis", "glass-box"}) {
+    // A diffuse scene, one with glossy plates and small lights, one with glass (half-vector copies), and one
+    // with delta lights, smooth plastic and a thin pane.
+    test::TempDir dir;
+    for (const char* name : {"cornell-box", "veach-mis", "glass-box", "delta-room"}) {
         CAPTURE(name);
-        const auto scene = loadScene(test::shippedScene(name));
+        const auto scene = loadScene(std::string(name) == "delta-room" ? deltaRoom(dir) : test::shippedScene(name));
         scene->camera = scene->camera.withResolution(32, 32);
         const GradientSettings gs = settingsFor(*scene);
         const int runs = 16, w = 32, r = 8;
@@ -419,9 +477,14 @@ BasePath reconnectedPath(const Scene& scene, const BasePath& x, const BaseVertex
     if (x1.light.emitter >= 0) {
         BaseLightSample& l = y1.light;
         const Emitter& em = *scene.emitters[size_t(l.emitter)];
+        REQUIRE(!l.infinite);
         l.wo = normalize(l.p - y1.si.p);
-        l.Le = em.evalSurface(l.p, l.n, -l.wo);
-        l.pdfLight = scene.emitterSelection.pmf(size_t(l.emitter)) * em.pdfDirect(y1.si.p, l.p, l.n, l.wo);
+        if (l.delta) { // point and spot lights: intensity over the squared distance, density 1 x pmf
+            l.Le = em.intensity(-l.wo) / lengthSquared(l.p - y1.si.p);
+        } else {
+            l.Le = em.evalSurface(l.p, l.n, -l.wo);
+            l.pdfLight = scene.emitterSelection.pmf(size_t(l.emitter)) * em.pdfDirect(y1.si.p, l.p, l.n, l.wo);
+        }
         l.visible = unoccluded(scene, y1.si.endpoint(), {l.p, l.n, l.magnitude});
     }
     if (x1.scattered && y.vertices.size() > 1) {
@@ -438,64 +501,74 @@ TEST_CASE("T-GR-2: a path's weights are the same from every pixel that can produ
     // For the balance weights over a set of pixels to sum to one over the techniques that can produce a path,
     // the shifts must compose: the weights computed from base path x in pixel k and from its shift y in pixel
     // m must agree, technique by technique. Diffuse scene: every shift reconnects at the primary hit.
-    const auto scene = loadScene(test::shippedScene("cornell-box"));
-    scene->camera = scene->camera.withResolution(48, 48);
-    GradientSettings gs = settingsFor(*scene);
-    gs.paths.maxDepth = 4;
-    gs.paths.rrDepth = 10;
-    // Pixels 9 apart: the primary hits lie far apart, so Jacobians are far from 1 and a missing one shows.
-    const int size = 4, spacing = 9;
-    Pcg32 rng(3, 5);
-    int compared = 0;
-    for (int n = 0; n < 200; ++n) {
-        const Vec2 corner(2 + rng.nextUInt() % 16, 2 + rng.nextUInt() % 16), offset(rng.nextDouble(), rng.nextDouble());
-        auto pixel = [&](size_t j) {
-            return corner + Vec2(double(spacing * (j % size)), double(spacing * (j / size))) + offset;
-        };
-        std::vector<std::optional<BaseVertex>> primary;
-        for (size_t j = 0; j < size * size; ++j)
-            primary.push_back(primaryVertex(*scene, pixel(j)));
-        const size_t k = rng.nextUInt() % (size * size);
-        IndependentSampler sampler(uint64_t(n), 9);
-        const BasePath x = traceBasePath(*scene, gs.paths, gs.shiftThreshold, pixel(k), primary[k], sampler);
-        if (x.vertices.size() < 2 || !x.vertices[0].scattered) continue;
-        // The weights of every technique j for every ending, seen from a base path in pixel `own`.
-        auto weights = [&](const BasePath& base, size_t own) {
-            std::vector<std::vector<EndingTerm>> terms(primary.size());
-            for (size_t j = 0; j < primary.size(); ++j) {
-                if (j == own)
-                    terms[j] = baseEndingTerms(*scene, base);
-                else
-                    (void)shiftBasePath(*scene, base, primary[j], gs.shiftThreshold, terms[j]);
-            }
-            std::vector<std::vector<double>> w(terms[own].size(), std::vector<double>(primary.size(), 0.0));
-            for (size_t e = 0; e < w.size(); ++e) {
-                double sum = 0;
-                for (const auto& t : terms)
-                    sum += t[e].density;
-                for (size_t j = 0; j < primary.size(); ++j)
-                    w[e][j] = terms[j][e].density / sum;
-            }
-            return std::make_pair(w, terms);
-        };
-        const auto [wx, tx] = weights(x, k);
-        for (size_t m = 0; m < primary.size(); ++m) {
-            if (m == k || !primary[m]) continue;
-            std::vector<EndingTerm> probe;
-            const ShiftOutcome o = shiftBasePath(*scene, x, primary[m], gs.shiftThreshold, probe);
-            if (o.cause != ShiftCause::Reconnected || o.reconnectDepth != 1) continue;
-            const BasePath y = reconnectedPath(*scene, x, *primary[m]);
-            const auto [wy, ty] = weights(y, m);
-            for (size_t e = 0; e < wx.size(); ++e) {
-                // Where the path in pixel m carries light, its weights must agree.
-                if (ty[m][e].value.isBlack() || tx[m][e].value.isBlack()) continue;
-                ++compared;
+    test::TempDir dir;
+    for (const char* name : {"cornell-box", "delta-room"}) {
+        CAPTURE(name);
+        const auto scene = loadScene(std::string(name) == "delta-room" ? deltaRoom(dir) : test::shippedScene(name));
+        scene->camera = scene->camera.withResolution(48, 48);
+        GradientSettings gs = settingsFor(*scene);
+        gs.paths.maxDepth = 4;
+        gs.paths.rrDepth = 10;
+        // Pixels 9 apart: the primary hits lie far apart, so Jacobians are far from 1 and a missing one shows.
+        const int size = 4, spacing = 9;
+        Pcg32 rng(3, 5);
+        int compared = 0;
+        for (int n = 0; n < 200; ++n) {
+            const Vec2 corner(2 + rng.nextUInt() % 16, 2 + rng.nextUInt() % 16),
+                offset(rng.nextDouble(), rng.nextDouble());
+            auto pixel = [&](size_t j) {
+                return corner + Vec2(double(spacing * (j % size)), double(spacing * (j / size))) + offset;
+            };
+            std::vector<std::optional<BaseVertex>> primary;
+            for (size_t j = 0; j < size * size; ++j)
+                primary.push_back(primaryVertex(*scene, pixel(j)));
+            const size_t k = rng.nextUInt() % (size * size);
+            IndependentSampler sampler(uint64_t(n), 9);
+            const BasePath x = traceBasePath(*scene, gs.paths, gs.shiftThreshold, pixel(k), primary[k], sampler);
+            if (x.vertices.size() < 2 || !x.vertices[0].scattered) continue;
+            // The weights of every technique j for every ending, seen from a base path in pixel `own`.
+            auto weights = [&](const BasePath& base, size_t own) {
+                std::vector<std::vector<EndingTerm>> terms(primary.size());
                 for (size_t j = 0; j < primary.size(); ++j) {
-                    CAPTURE(n, m, e, j);
-                    CHECK(wy[e][j] == Approx(wx[e][j]).margin(2e-3).epsilon(2e-2));
+                    if (j == own)
+                        terms[j] = baseEndingTerms(*scene, base);
+                    else
+                        (void)shiftBasePath(*scene, base, primary[j], gs.shiftThreshold, terms[j]);
+                }
+                std::vector<std::vector<double>> w(terms[own].size(), std::vector<double>(primary.size(), 0.0));
+                for (size_t e = 0; e < w.size(); ++e) {
+                    double sum = 0;
+                    for (const auto& t : terms)
+                        sum += t[e].density;
+                    for (size_t j = 0; j < primary.size(); ++j)
+                        w[e][j] = terms[j][e].density / sum;
+                }
+                return std::make_pair(w, terms);
+            };
+            const auto [wx, tx] = weights(x, k);
+            for (size_t m = 0; m < primary.size(); ++m) {
+                if (m == k || !primary[m]) continue;
+                std::vector<EndingTerm> probe;
+                const ShiftOutcome o = shiftBasePath(*scene, x, primary[m], gs.shiftThreshold, probe);
+                if (o.cause != ShiftCause::Reconnected || o.reconnectDepth != 1) continue;
+                const BasePath y = reconnectedPath(*scene, x, *primary[m]);
+                // Only a path pixel m's path tracer could have traced is a base path there (a direction at the
+                // edge of its lobe has a density that underflows).
+                if (!(y.vertices[0].pdf > 1e-9) || y.vertices[0].fCos.isBlack() ||
+                    (y.vertices[1].scattered && !(y.vertices[1].pdf > 1e-9)))
+                    continue;
+                const auto [wy, ty] = weights(y, m);
+                for (size_t e = 0; e < wx.size(); ++e) {
+                    // Where the path in pixel m carries light, its weights must agree.
+                    if (ty[m][e].value.isBlack() || tx[m][e].value.isBlack()) continue;
+                    ++compared;
+                    for (size_t j = 0; j < primary.size(); ++j) {
+                        CAPTURE(n, m, e, j);
+                        CHECK(wy[e][j] == Approx(wx[e][j]).margin(2e-3).epsilon(2e-2));
+                    }
                 }
             }
         }
+        CHECK(compared > 100);
     }
-    CHECK(compared > 100);
 }

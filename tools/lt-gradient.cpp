@@ -78,6 +78,9 @@ int main(int argc, char** argv) {
         const bool gpt = method == "gpt";
         if (gpt && (app.count("--tile") || app.count("--rr-delta") || app.count("--rr-min")))
             throw lt::Error("--tile, --rr-delta and --rr-min are options of --method gdpr");
+        if (!gpt && gs.rrMin == 0)
+            std::cerr << "lt-gradient: warning: --rr-min 0 is biased (base paths that carry nothing never survive, "
+                         "though their shifts to other pixels would)\n";
         auto scene = lt::tool::loadSceneWithOptions("lt-gradient", scenePath, defines, resolution, quiet);
         gs.paths.maxDepth = maxDepth != -2 ? maxDepth : scene->integrator.maxDepth;
         gs.paths.rrDepth = rrDepth > 0 ? rrDepth : scene->integrator.rrDepth;

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "math/error.h"
+#include "math/rng.h"
 #include "sampling/render.h"
 #include "scene/scene.h"
 
@@ -69,9 +70,9 @@ void PathReusing::estimateTile(const TileSample& tile) const {
     const size_t pixels = ext.area();
     const int filmWidth = scene_.camera.film().width;
     auto pixelIndex = [&](int x, int y) { return uint64_t(y) * uint64_t(filmWidth) + uint64_t(x); };
-    // One sub-pixel sample for the whole tile, from the stream of its first pixel's sample.
-    IndependentSampler tileSampler =
-        pixelSampler(tile.seed ^ 0x5bd1e9955bd1e995ULL, tile.pass, pixelIndex(inner.x0, inner.y0));
+    const uint64_t tileKey = mixBits(pixelIndex(inner.x0, inner.y0) + 1);
+    // One sub-pixel sample for the whole tile.
+    IndependentSampler tileSampler = pixelSampler(tile.seed ^ 0x5bd1e9955bd1e995ULL, tile.pass, tileKey);
     const Vec2 offset = Vec2(0.5, 0.5) + filter_.sample(tileSampler.next2D());
 
     std::vector<std::optional<BaseVertex>> primary(pixels);
@@ -81,7 +82,8 @@ void PathReusing::estimateTile(const TileSample& tile) const {
     std::vector<double> survival(pixels, 0.0); // 0: the base path did not survive Russian roulette
     for (size_t k = 0; k < pixels; ++k) {
         const int x = ext.x0 + int(k % size_t(w)), y = ext.y0 + int(k / size_t(w));
-        IndependentSampler sampler = pixelSampler(tile.seed, tile.pass, pixelIndex(x, y));
+        // A pixel of the extra column or row is also its own tile's: a stream of this tile's, not the same path.
+        IndependentSampler sampler = pixelSampler(tile.seed ^ tileKey, tile.pass, pixelIndex(x, y));
         bases[k] =
             traceBasePath(scene_, settings_.paths, settings_.shiftThreshold, Vec2(x, y) + offset, primary[k], sampler);
         // Russian roulette on the base path by its own estimate: a black base path still lives with q_min,

@@ -7,6 +7,13 @@
 
 namespace lt {
 
+double reconnectionJacobian(const Vec3& offset, const Vec3& base, const Vec3& z, const Vec3& n) {
+    const double denom = pdfSolidAngleToArea(1, base, z, n);
+    if (!(denom > 0)) return 0;
+    const double j = pdfSolidAngleToArea(1, offset, z, n) / denom;
+    return std::isfinite(j) ? j : 0.0;
+}
+
 namespace {
 
 // Radiance that the emitter on surface vertex z sends along `d` (leaving z), and the density with which a
@@ -30,10 +37,12 @@ struct LightSeen {
     double jacobian = 1; // solid angle at the offset over solid angle at the base vertex
 };
 
-LightSeen lightSeenFrom(const Scene& scene, const BaseLightSample& l, const Vec3& ref, const Vec3& base) {
+// The light sample seen from the offset vertex at `ref` (the same point on the light); nothing when ref lies
+// on that point.
+std::optional<LightSeen> lightSeenFrom(const Scene& scene, const BaseLightSample& l, const Vec3& ref,
+                                       const Vec3& base) {
     LightSeen s;
     const Emitter& em = *scene.emitters[size_t(l.emitter)];
-    const double pmf = scene.emitterSelection.pmf(size_t(l.emitter));
     if (l.infinite) {
         s.wo = l.wo;
         s.Le = l.delta ? l.Le : environmentRadiance(scene, l.wo);
@@ -42,6 +51,7 @@ LightSeen lightSeenFrom(const Scene& scene, const BaseLightSample& l, const Vec3
     }
     const Vec3 v = l.p - ref;
     const double d2 = lengthSquared(v);
+    if (!(d2 > 0)) return std::nullopt;
     s.wo = v / std::sqrt(d2);
     if (l.delta) { // point and spot lights: the same point, a counting measure
         s.Le = em.intensity(-s.wo) / d2;
@@ -49,8 +59,8 @@ LightSeen lightSeenFrom(const Scene& scene, const BaseLightSample& l, const Vec3
         return s;
     }
     s.Le = em.evalSurface(l.p, l.n, -s.wo);
-    s.pdfLight = pmf * em.pdfDirect(ref, l.p, l.n, s.wo);
-    s.jacobian = pdfSolidAngleToArea(1, ref, l.p, l.n) / pdfSolidAngleToArea(1, base, l.p, l.n);
+    s.pdfLight = scene.emitterSelection.pmf(size_t(l.emitter)) * em.pdfDirect(ref, l.p, l.n, s.wo);
+    s.jacobian = reconnectionJacobian(ref, base, l.p, l.n);
     return s;
 }
 
@@ -81,6 +91,27 @@ std::optional<HalfVectorCopy> copyHalfVector(const BaseVertex& x, const Vec3& wi
         etaX = wiXl.z > 0 ? ex->interior / ex->exterior : ex->exterior / ex->interior;
         etaY = wiYl.z > 0 ? ey->interior / ey->exterior : ey->exterior / ey->interior;
     }
+    HalfVectorCopy f;
+    if (deltaLobe) {
+        // A delta lobe's half vector is the shading normal: mirror, refract, or pass straight through a thin
+        // sheet (eta 1), and let deltaEval confirm the lobe; the Jacobian is 1.
+        Vec3 woYl = Vec3(-wiYl.x, -wiYl.y, wiYl.z);
+        if (transmit) {
+            if (etaY == 1) {
+                woYl = -wiYl;
+            } else {
+                const auto t = refract(wiYl, Vec3(0, 0, 1), etaY);
+                if (!t) return std::nullopt;
+                woYl = *t;
+            }
+        }
+        f.wo = normalize(y.si.shading.toWorld(woYl));
+        const auto ds = y.worldBsdf().deltaEval(y.wi, f.wo, Transport::Radiance);
+        if (!ds || !(ds->pdf > 0)) return std::nullopt;
+        f.fCos = ds->weight * ds->pdf;
+        f.pdf = ds->pdf;
+        return f;
+    }
     const auto h = halfVector(wiXl, woXl, etaX);
     if (!h) return std::nullopt;
     Vec3 woYl;
@@ -92,15 +123,7 @@ std::optional<HalfVectorCopy> copyHalfVector(const BaseVertex& x, const Vec3& wi
         if (!t || !(t->z * wiYl.z < 0)) return std::nullopt;
         woYl = *t;
     }
-    HalfVectorCopy f;
     f.wo = normalize(y.si.shading.toWorld(woYl));
-    if (deltaLobe) {
-        const auto ds = y.worldBsdf().deltaEval(y.wi, f.wo, Transport::Radiance);
-        if (!ds || !(ds->pdf > 0)) return std::nullopt;
-        f.fCos = ds->weight * ds->pdf;
-        f.pdf = ds->pdf;
-        return f;
-    }
     const Scatter s = scatterToward(y, y.wi, f.wo);
     f.fCos = s.fCos;
     f.pdf = s.pdf;
@@ -148,12 +171,14 @@ Reached baseReached(const Scene& scene, const BasePath& base, size_t i) {
     return reachedFrom(scene, x.si.p, x.escaped ? nullptr : &base.vertices[i + 1], x.wo, x.delta());
 }
 
-// The eta^2 a transmission from wi to wo at v multiplies Russian roulette's etaScale by (1 for reflection).
+// The eta^2 a transmission from wi to wo at v multiplies Russian roulette's etaScale by (1 for reflection):
+// BsdfSample::eta's, sides taken by the shading normal as the BSDFs take them.
 double etaSquared(const BaseVertex& v, const Vec3& wi, const Vec3& wo) {
-    if (dot(wi, v.si.ng) * dot(wo, v.si.ng) >= 0) return 1;
+    const Vec3& n = v.si.shading.n;
+    if (dot(wi, n) * dot(wo, n) >= 0) return 1;
     const auto e = v.bsdf->eta();
     if (!e) return 1;
-    const double eta = dot(wo, v.si.ng) < 0 ? e->interior / e->exterior : e->exterior / e->interior;
+    const double eta = dot(wo, n) < 0 ? e->interior / e->exterior : e->exterior / e->interior;
     return eta * eta;
 }
 
@@ -177,13 +202,15 @@ struct Prefix {
 };
 
 // The terms of ending 2j, the light sample at x_j, for a technique that reaches x_j from direction wi with
-// `prefix`; light seen as `light` (the base's, or the same point from an offset vertex). The BSDF sample
-// reaches the light point only when the shadow ray is free.
+// `prefix`; light seen as `light` (the base's, or the same point from an offset vertex) of the base's light
+// sample `sample`. The BSDF sample reaches the light point only when the shadow ray is free, and never a delta
+// light.
 EndingTerm lightEnding(const BaseVertex& x, const Vec3& wi, const Prefix& prefix, const LightSeen& light, bool free,
-                       double baseLightPdf, int edges, int rrDepth) {
+                       const BaseLightSample& sample, int edges, int rrDepth) {
     const Scatter s = scatterToward(x, wi, light.wo);
     const double q = prefix.survival(s.fCos, s.pdf, etaSquared(x, wi, light.wo), edges, rrDepth);
-    const double pdfBsdf = x.light.delta || !free ? 0.0 : q * s.pdf;
+    const double pdfBsdf = sample.delta || !free ? 0.0 : q * s.pdf;
+    const double baseLightPdf = sample.pdfLight;
     return {free ? prefix.value * s.fCos * light.Le * (light.jacobian / baseLightPdf) : Spectrum(),
             prefix.density * (light.pdfLight + pdfBsdf) * light.jacobian / baseLightPdf};
 }
@@ -223,8 +250,7 @@ struct Shifter {
             const Vec3& in = k == j ? wi : x.wi;
             const int edges = int(k) + 1;
             if (x.light.emitter >= 0)
-                out[2 * k] =
-                    lightEnding(x, in, p, baseLight(x.light), x.light.visible, x.light.pdfLight, edges, base.rrDepth);
+                out[2 * k] = lightEnding(x, in, p, baseLight(x.light), x.light.visible, x.light, edges, base.rrDepth);
             if (!x.scattered) return;
             const Scatter s = k == j ? scatterToward(x, in, x.wo) : Scatter{x.fCos, x.pdf};
             const double eta2 = etaSquared(x, in, x.wo);
@@ -234,23 +260,44 @@ struct Shifter {
         }
     }
 
-    // Ending 2i, the light sample at x_i, for the offset at y.
+    // Ending 2i, the light sample at x_i, for the offset at y: its last segment always reconnects to the same
+    // point on the light (as the public G-PT code does), whatever the roughness; the same rule ends the BSDF
+    // sample's ending 2i + 1 through a non-delta lobe, so a path reaching a light is shifted alike by either
+    // technique. An offset vertex without a non-delta lobe takes no light sample: no technique.
     void shiftLightSample(const BaseVertex& x, size_t i, const BaseVertex& y, const Prefix& p) {
         const BaseLightSample& l = x.light;
-        if (connectableLobe(*y.bsdf, y.si.uv, false, threshold) != x.connectable) return;
-        const int edges = int(i) + 1;
-        if (x.connectable) { // reconnect to the same point on the light
-            const LightSeen s = lightSeenFrom(scene, l, y.si.p, x.si.p);
-            const bool free = l.infinite ? escapes(scene, y.si.endpoint(), s.wo)
-                                         : unoccluded(scene, y.si.endpoint(), {l.p, l.n, l.magnitude});
-            out[2 * i] = lightEnding(y, y.wi, p, s, free, l.pdfLight, edges, base.rrDepth);
-        } else if (const auto f = copyHalfVector(x, x.wi, l.wo, false, y)) {
-            const auto hit = traceFrom(scene, y, f->wo);
-            const Reached r = reachedFrom(scene, y.si.p, hit ? &*hit : nullptr, f->wo, false);
-            const double q = p.survival(f->fCos, f->pdf, etaSquared(y, y.wi, f->wo), edges, base.rrDepth);
-            out[2 * i] = {p.value * f->fCos * r.Le * (f->jacobian / l.pdfLight),
-                          p.density * (r.pdfLight + q * f->pdf) * f->jacobian / l.pdfLight};
+        if (!samplesLights(*y.bsdf)) return;
+        const auto s = lightSeenFrom(scene, l, y.si.p, x.si.p);
+        if (!s) return;
+        const bool free = l.infinite ? escapes(scene, y.si.endpoint(), s->wo)
+                                     : unoccluded(scene, y.si.endpoint(), {l.p, l.n, l.magnitude});
+        out[2 * i] = lightEnding(y, y.wi, p, *s, free, l, int(i) + 1, base.rrDepth);
+    }
+
+    // The reconnection of y_i to x_{i+1} (or, when the base path left the scene there, the same direction
+    // out of it), with y's factors for that direction.
+    struct Join {
+        Vec3 wo;
+        double jacobian = 1;
+        bool free = false;
+        Scatter s;
+        double eta2 = 1;
+        double q = 0;
+    };
+    Join join(const BaseVertex& x, const BaseVertex* next, const BaseVertex& y, const Prefix& p, int edges) {
+        Join j;
+        j.wo = x.wo;
+        if (next) {
+            j.wo = normalize(next->si.p - y.si.p);
+            j.jacobian = reconnectionJacobian(y.si.p, x.si.p, next->si.p, next->si.ng);
+            j.free = j.jacobian > 0 && unoccluded(scene, y.si.endpoint(), next->si.endpoint());
+        } else {
+            j.free = escapes(scene, y.si.endpoint(), j.wo);
         }
+        j.s = scatterToward(y, y.wi, j.wo);
+        j.eta2 = etaSquared(y, y.wi, j.wo);
+        j.q = p.survival(j.s.fCos, j.s.pdf, j.eta2, edges, base.rrDepth);
+        return j;
     }
 
     ShiftOutcome run(const std::optional<BaseVertex>& offset) {
@@ -260,61 +307,57 @@ struct Shifter {
         if (!offset) return {ShiftCause::NoPrimaryHit};
         BaseVertex y = *offset;
         Prefix p;
+        size_t lightTaken = n; // a light ending already shifted by a reconnection one vertex earlier
         for (size_t i = 0; i < n; ++i) {
             const BaseVertex& x = base.vertices[i];
             const int edges = int(i) + 1;
             if (!x.bsdf) return {ShiftCause::Followed};
             if (!y.bsdf) return {ShiftCause::Mismatch};
-            if (x.light.emitter >= 0) shiftLightSample(x, i, y, p);
-
-            // Ending 2i + 1 and the path beyond it.
+            if (x.light.emitter >= 0 && i != lightTaken) shiftLightSample(x, i, y, p);
             if (!x.scattered) return {ShiftCause::Followed};
+            const BaseVertex* next = x.escaped ? nullptr : &base.vertices[i + 1];
+
+            // Ending 2i + 1 through a non-delta lobe ends by a reconnection, as the light sample does.
+            std::optional<Join> joined;
+            if (!x.delta()) {
+                if (!samplesLights(*y.bsdf)) return {ShiftCause::Mismatch};
+                joined = join(x, next, y, p, edges);
+                // Blocked, the path is still a light sample's (when x_{i+1} emits), not a BSDF sample's.
+                out[2 * i + 1] = bsdfEnding(p, x, joined->s.fCos, joined->s.pdf, joined->q, joined->jacobian,
+                                            reachedFrom(scene, y.si.p, next, joined->wo, false), joined->free);
+            }
             const bool connectable = connectableLobe(*x.bsdf, x.si.uv, x.delta(), threshold);
             if (connectableLobe(*y.bsdf, y.si.uv, x.delta(), threshold) != connectable) return {ShiftCause::Mismatch};
-            const BaseVertex* next = x.escaped ? nullptr : &base.vertices[i + 1];
             if (connectable) {
-                // Reconnect y_i to x_{i+1} (or send it along the same direction to the environment).
-                Vec3 wo = x.wo;
-                double jacobian = 1;
-                bool free;
-                if (next) {
-                    wo = normalize(next->si.p - y.si.p);
-                    jacobian = pdfSolidAngleToArea(1, y.si.p, next->si.p, next->si.ng) /
-                               pdfSolidAngleToArea(1, x.si.p, next->si.p, next->si.ng);
-                    free = unoccluded(scene, y.si.endpoint(), next->si.endpoint());
-                } else {
-                    free = escapes(scene, y.si.endpoint(), wo);
+                // x_i and y_i are connectable: the endings through x_{i+1} reconnect here when x_{i+1} is
+                // connectable for them (all its endings, unless it took a delta lobe: then its light sample only).
+                if (!next) return {joined->free ? ShiftCause::Reconnected : ShiftCause::Occluded, edges};
+                const bool joins = next->connectable && !(next->scattered && next->delta());
+                if (joined->free) {
+                    Prefix jp = p;
+                    step(jp, x, joined->s.fCos, joined->s.pdf, joined->q, joined->eta2, joined->jacobian);
+                    if (joins) {
+                        tail(i + 1, -joined->wo, jp);
+                        return {ShiftCause::Reconnected, edges};
+                    }
+                    if (next->connectable && next->light.emitter >= 0)
+                        out[2 * i + 2] = lightEnding(*next, -joined->wo, jp, baseLight(next->light),
+                                                     next->light.visible, next->light, edges + 1, base.rrDepth);
+                } else if (joins) {
+                    return {ShiftCause::Occluded};
                 }
-                const Scatter s = scatterToward(y, y.wi, wo);
-                const double eta2 = etaSquared(y, y.wi, wo);
-                const double q = p.survival(s.fCos, s.pdf, eta2, edges, base.rrDepth);
-                // Blocked, the path is still a light sample's (when x_{i+1} emits), not a BSDF sample's.
-                out[2 * i + 1] =
-                    bsdfEnding(p, x, s.fCos, s.pdf, q, jacobian, reachedFrom(scene, y.si.p, next, wo, false), free);
-                if (!free) return {ShiftCause::Occluded};
-                if (!next) return {ShiftCause::Reconnected, edges};
-                Prefix joined = p;
-                step(joined, x, s.fCos, s.pdf, q, eta2, jacobian);
-                // x_{i+1} is a reconnection target for the endings that leave it through a non-delta lobe.
-                if (next->connectable && !(next->scattered && next->delta())) {
-                    tail(i + 1, -wo, joined);
-                    return {ShiftCause::Reconnected, edges};
-                }
-                // x_{i+1} took a delta lobe: only its light sample joins here; the rest follows half vectors.
-                if (next->connectable && next->light.emitter >= 0)
-                    out[2 * i + 2] = lightEnding(*next, -wo, joined, baseLight(next->light), next->light.visible,
-                                                 next->light.pdfLight, edges + 1, base.rrDepth);
-                // Nothing leaves x_{i+1} (the path ends there): no ending is left to follow.
-                if (!next->scattered && next->light.emitter < 0) return {ShiftCause::Reconnected, edges};
+                if (next->connectable) lightTaken = i + 1; // (blocked: no technique produces it)
+                if (!next->scattered) return {ShiftCause::Reconnected, edges};
             }
+            // Half-vector copy for the rest.
             const auto f = copyHalfVector(x, x.wi, x.wo, x.delta(), y);
             if (!f) return {ShiftCause::Refraction};
             auto hit = traceFrom(scene, y, f->wo);
             const double eta2 = etaSquared(y, y.wi, f->wo);
             const double q = p.survival(f->fCos, f->pdf, eta2, edges, base.rrDepth);
-            if (!connectable)
+            if (x.delta())
                 out[2 * i + 1] = bsdfEnding(p, x, f->fCos, f->pdf, q, f->jacobian,
-                                            reachedFrom(scene, y.si.p, hit ? &*hit : nullptr, f->wo, x.delta()), true);
+                                            reachedFrom(scene, y.si.p, hit ? &*hit : nullptr, f->wo, true), true);
             step(p, x, f->fCos, f->pdf, q, eta2, f->jacobian);
             if (!next) return {ShiftCause::Followed};
             if (!hit) return {ShiftCause::Escaped};
@@ -334,8 +377,7 @@ std::vector<EndingTerm> baseEndingTerms(const Scene& scene, const BasePath& base
         const BaseVertex& x = base.vertices[i];
         const int edges = int(i) + 1;
         if (x.light.emitter >= 0)
-            terms[2 * i] =
-                lightEnding(x, x.wi, p, baseLight(x.light), x.light.visible, x.light.pdfLight, edges, base.rrDepth);
+            terms[2 * i] = lightEnding(x, x.wi, p, baseLight(x.light), x.light.visible, x.light, edges, base.rrDepth);
         if (!x.scattered) break;
         const double eta2 = etaSquared(x, x.wi, x.wo);
         terms[2 * i + 1] = bsdfEnding(p, x, x.fCos, x.pdf, x.survival, 1, baseReached(scene, base, i), true);

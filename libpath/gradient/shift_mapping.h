@@ -6,18 +6,17 @@
 // At every base vertex x_i the offset vertex y_i must be classified alike (gradient/base_path.h
 // connectableLobe), else the shift fails. Then:
 // * reconnection: when x_i, y_i and x_{i+1} are connectable, y_i connects to x_{i+1} (a shadow ray) and
-//   the offset shares the base path's tail. Jacobian of the solid angle at y_i against that at x_i:
-//   |cos theta'_{i+1}| / |y_i - x_{i+1}|^2 over |cos theta_{i+1}| / |x_i - x_{i+1}|^2 (Kettunen et al. 2015,
-//   Eq. 11; computed through scene/measure.h). A light sample is a connectable endpoint: next-event
-//   estimation reuses the base path's point on the light (Jacobian 1 for delta and infinite lights);
+//   the offset shares the base path's tail (reconnectionJacobian below);
 // * half-vector copy: otherwise the base's generalized half vector at x_i (bsdf/half_vector.h), in x_i's
-//   shading frame, is applied at y_i to the offset's incident direction, and the ray traced. Jacobian
-//   |d omega_h / d omega_o| at x_i over the same at y_i (HSLT Eq. 10); 1 through delta lobes. Total internal
-//   reflection, an incident direction on the other side, or a direction that leaves the lobe's hemisphere
-//   fail the shift.
-// A vertex can be a reconnection target for one ending of the path and not for another (a plastic vertex
-// whose base path took the delta coat is not connectable, its light sample is), so the rule is applied to
-// each ending: the sub-path that ends with a light sample or with the BSDF sample reaching x_{i+1}.
+//   shading frame, is applied at y_i to the offset's incident direction, and the ray traced (copyHalfVector
+//   below). Total internal reflection, an incident direction on the other side, or a direction that leaves
+//   the lobe's hemisphere fail the shift.
+// The rule is applied to each ending of the path (the sub-path that ends with the light sample at x_i, or
+// with the BSDF sample leaving x_i), because a vertex can be a reconnection target for one ending and not for
+// another (a plastic vertex whose base path took the delta coat is not connectable, its light sample is). The
+// last segment of an ending leaving a non-delta lobe always reconnects to its end (the light sample's point
+// on the light, or what the BSDF sample reached), as the public G-PT code does for light samples: a path that
+// reaches a light is then shifted alike whichever of the two techniques sampled it.
 //
 // The estimators combine a path's techniques by the balance heuristic over "sampled in this pixel" and
 // "sampled in pixel m and shifted here" (Kettunen et al. 2015, Eq. 8, extended to a tile as [GDPR] Eq. 6-8),
@@ -68,6 +67,12 @@ struct ShiftOutcome {
 // cannot be a BSDF sample's) counts only the techniques that can.
 ShiftOutcome shiftBasePath(const Scene& scene, const BasePath& base, const std::optional<BaseVertex>& offset,
                            double shiftThreshold, std::vector<EndingTerm>& out);
+
+// The Jacobian of a reconnection to surface point z (geometric normal n): the solid
+// angle at `offset` over the solid angle at `base` of the directions toward the area around z, |cos theta'| /
+// |offset - z|^2 over |cos theta| / |base - z|^2 (Kettunen et al. 2015, Eq. 11). 0 when the base direction
+// grazes z (no density in solid angle) or the ratio is not finite: then the ending has no offset technique.
+[[nodiscard]] double reconnectionJacobian(const Vec3& offset, const Vec3& base, const Vec3& z, const Vec3& n);
 
 // The half-vector copy at the offset vertex y (its incident direction y.wi): the direction leaving y whose
 // generalized half vector, in y's shading frame, is that of (wiX, woX) at x in x's frame; y's f_s |cos| and

@@ -7,7 +7,7 @@
 # (path space with the bidirectional mutation and the manifold perturbation, as Jakob & Marschner define
 # MEMLT); gpt, gdpr (lt-gradient --method gpt | gdpr, then lt-reconstruct --norm l2, the unbiased one, every
 # snapshot reconstructed) and gpt-l1, gdpr-l1 (the same with --norm l1); the gradient buffer is kept beside the
-# image as OUT.gradient.lts. Methods of tools that do not exist yet are refused by name.
+# image as gpt.gradient.lts or gdpr.gradient.lts. Methods of tools that do not exist yet are refused by name.
 known_methods="pt bdpt mlt pssmlt mmlt memlt gpt gdpr gpt-l1 gdpr-l1"
 
 render_method() {
@@ -21,10 +21,15 @@ render_method() {
       "$bin/lt-mutate" "$scene" --strategies bidirectional,manifold --time "$time" --seed "$seed" --snapshots doubling \
         -o "$file" -q "$@" ;;
     gpt|gdpr|gpt-l1|gdpr-l1)
-      local estimator="${method%-l1}" norm=l2 gradient="${file%.lts}.gradient.lts"
+      # One render per estimator and comparison: gpt and gpt-l1 of one run of compare.sh (which touches
+      # OUT/.started first) reconstruct the same gradient buffer, each charged its own reconstruction.
+      local estimator="${method%-l1}" norm=l2 dir; dir="$(dirname "$file")"
+      local gradient="$dir/$estimator.gradient.lts"
       [ "$estimator" != "$method" ] && norm=l1
-      "$bin/lt-gradient" "$scene" --method "$estimator" --time "$time" --seed "$seed" --snapshots doubling \
-        -o "$gradient" -q "$@"
+      if ! { [ -f "$dir/.started" ] && [ "$gradient" -nt "$dir/.started" ]; }; then
+        "$bin/lt-gradient" "$scene" --method "$estimator" --time "$time" --seed "$seed" --snapshots doubling \
+          -o "$gradient" -q "$@"
+      fi
       "$bin/lt-reconstruct" "$gradient" --norm "$norm" -o "$file" -q ;;
     hslt|portal)
       echo "$0: method '$method' needs a part that does not exist yet (half-vector or portal mutations)" >&2; return 1 ;;

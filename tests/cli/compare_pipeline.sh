@@ -14,9 +14,10 @@ check "compare.sh: exit 0" '[ $code -eq 0 ]'
 check "compare.sh: images of both methods (lt-seed and lt-mutate)" '[ -s "$tmp/cmp/bdpt.exr" ] && [ -s "$tmp/cmp/mmlt.png" ]'
 check "compare.sh: error table and CSV" 'grep -q relMSE "$tmp/cmp/error.txt" && [ "$(grep -c "BUFR" "$tmp/cmp/error.csv")" -eq 2 ]'
 check "compare.sh: plot and figure are PNGs" '[ "$(magic "$tmp/cmp/error.png" 4)" = "89504e47" ] && [ "$(magic "$tmp/cmp/figure.png" 4)" = "89504e47" ]'
-bash "$src/pipelines/compare.sh" "$scene" --time 1 --methods "gpt gdpr-l1" --ref "$tmp/ref.exr" --out "$tmp/grad" > "$tmp/glog" 2>&1; code=$?
-check "compare.sh gpt gdpr-l1: images, and the reconstructed snapshots measured" '[ $code -eq 0 ] &&
+bash "$src/pipelines/compare.sh" "$scene" --time 1 --methods "gpt gdpr gdpr-l1" --ref "$tmp/ref.exr" --out "$tmp/grad" > "$tmp/glog" 2>&1; code=$?
+check "compare.sh gpt gdpr gdpr-l1: images, one gradient render per estimator, reconstructed snapshots measured" '[ $code -eq 0 ] &&
   [ -s "$tmp/grad/gpt.png" ] && [ -s "$tmp/grad/gdpr-l1.exr" ] && [ -s "$tmp/grad/gpt.gradient.lts" ] &&
+  [ -s "$tmp/grad/gdpr.gradient.lts" ] &&
   grep -q "gdpr-l1.lts *SNAP" "$tmp/grad/error.txt"' || cat "$tmp/glog"
 out=$(bash "$src/pipelines/compare.sh" "$scene" --time 1 --methods "pt hslt" --out "$tmp/cmp2" 2>&1); code=$?
 check "compare.sh: a method without its tool is refused by name, before rendering" '[ $code -ne 0 ] && echo "$out" | grep -q "hslt" && [ ! -e "$tmp/cmp2/pt.lts" ]'

@@ -105,10 +105,8 @@ BasePath traceBasePath(const Scene& scene, const PathSettings& settings, double 
         v.wo = bs->wo;
         v.lobe = bs->lobe;
         v.pdf = bs->pdf;
-        // Non-delta values from eval(), as the shift evaluates its offsets: a path shifted onto itself is
-        // then the base path bit for bit.
-        v.fCos =
-            v.delta() ? bs->weight * bs->pdf : wb.eval(v.wi, v.wo, Transport::Radiance) * std::abs(dot(v.wo, v.si.ng));
+        // Non-delta values from eval(), as the shift evaluates its offsets (BaseVertex::scatter).
+        v.fCos = v.delta() ? bs->weight * bs->pdf : v.scatter(v.wi, v.wo).fCos;
         if (v.fCos.isBlack() || !(v.pdf > 0)) break;
         beta *= v.fCos / v.pdf;
         if (bs->lobe & LobeTransmission) etaScale *= bs->eta * bs->eta;

@@ -53,6 +53,12 @@ struct BaseLightSample {
     bool visible = false;  // the base path's shadow ray
 };
 
+// A vertex's effective f_s |cos| (bsdf/shading_correction.h) and BSDF density for one pair of directions.
+struct VertexScatter {
+    Spectrum fCos;
+    double pdf = 0;
+};
+
 struct BaseVertex {
     SurfaceInteraction si;
     const Bsdf* bsdf = nullptr; // null: the path ends here
@@ -71,6 +77,12 @@ struct BaseVertex {
 
     [[nodiscard]] bool delta() const { return lobe & LobeDelta; }
     [[nodiscard]] WorldBsdf worldBsdf() const { return {*bsdf, si.shading, si.ng, si.uv}; }
+    // The non-delta lobes from direction wi toward wo: what the base path and every shift evaluate.
+    [[nodiscard]] VertexScatter scatter(const Vec3& wiWorld, const Vec3& woWorld) const {
+        const WorldBsdf wb = worldBsdf();
+        return {wb.eval(wiWorld, woWorld, Transport::Radiance) * std::abs(dot(woWorld, si.ng)),
+                wb.pdf(wiWorld, woWorld)};
+    }
 };
 
 struct BasePath {

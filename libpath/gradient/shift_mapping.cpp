@@ -64,17 +64,6 @@ std::optional<LightSeen> lightSeenFrom(const Scene& scene, const BaseLightSample
     return s;
 }
 
-// f_s |cos| and the BSDF density of vertex v from its incident direction wi toward wo.
-struct Scatter {
-    Spectrum fCos;
-    double pdf = 0;
-};
-
-Scatter scatterToward(const BaseVertex& v, const Vec3& wi, const Vec3& wo) {
-    const WorldBsdf wb = v.worldBsdf();
-    return {wb.eval(wi, wo, Transport::Radiance) * std::abs(dot(wo, v.si.ng)), wb.pdf(wi, wo)};
-}
-
 } // namespace
 
 std::optional<HalfVectorCopy> copyHalfVector(const BaseVertex& x, const Vec3& wiX, const Vec3& woX, bool deltaLobe,
@@ -124,7 +113,7 @@ std::optional<HalfVectorCopy> copyHalfVector(const BaseVertex& x, const Vec3& wi
         woYl = *t;
     }
     f.wo = normalize(y.si.shading.toWorld(woYl));
-    const Scatter s = scatterToward(y, y.wi, f.wo);
+    const VertexScatter s = y.scatter(y.wi, f.wo);
     f.fCos = s.fCos;
     f.pdf = s.pdf;
     const double jx = halfVectorJacobian(*h, wiXl, woXl, etaX), jy = halfVectorJacobian(*h, wiYl, woYl, etaY);
@@ -207,7 +196,7 @@ struct Prefix {
 // light.
 EndingTerm lightEnding(const BaseVertex& x, const Vec3& wi, const Prefix& prefix, const LightSeen& light, bool free,
                        const BaseLightSample& sample, int edges, int rrDepth) {
-    const Scatter s = scatterToward(x, wi, light.wo);
+    const VertexScatter s = x.scatter(wi, light.wo);
     const double q = prefix.survival(s.fCos, s.pdf, etaSquared(x, wi, light.wo), edges, rrDepth);
     const double pdfBsdf = sample.delta || !free ? 0.0 : q * s.pdf;
     const double baseLightPdf = sample.pdfLight;
@@ -252,7 +241,7 @@ struct Shifter {
             if (x.light.emitter >= 0)
                 out[2 * k] = lightEnding(x, in, p, baseLight(x.light), x.light.visible, x.light, edges, base.rrDepth);
             if (!x.scattered) return;
-            const Scatter s = k == j ? scatterToward(x, in, x.wo) : Scatter{x.fCos, x.pdf};
+            const VertexScatter s = k == j ? x.scatter(in, x.wo) : VertexScatter{x.fCos, x.pdf};
             const double eta2 = etaSquared(x, in, x.wo);
             const double q = p.survival(s.fCos, s.pdf, eta2, edges, base.rrDepth);
             out[2 * k + 1] = bsdfEnding(p, x, s.fCos, s.pdf, q, 1, baseReached(scene, base, k), true);
@@ -280,7 +269,7 @@ struct Shifter {
         Vec3 wo;
         double jacobian = 1;
         bool free = false;
-        Scatter s;
+        VertexScatter s;
         double eta2 = 1;
         double q = 0;
     };
@@ -294,7 +283,7 @@ struct Shifter {
         } else {
             j.free = escapes(scene, y.si.endpoint(), j.wo);
         }
-        j.s = scatterToward(y, y.wi, j.wo);
+        j.s = y.scatter(y.wi, j.wo);
         j.eta2 = etaSquared(y, y.wi, j.wo);
         j.q = p.survival(j.s.fCos, j.s.pdf, j.eta2, edges, base.rrDepth);
         return j;

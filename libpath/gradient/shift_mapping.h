@@ -20,11 +20,11 @@
 //
 // The estimators combine a path's techniques by the balance heuristic over "sampled in this pixel" and
 // "sampled in pixel m and shifted here" (Kettunen et al. 2015, Eq. 8, extended to a tile as [GDPR] Eq. 6-8),
-// with the path tracer's two strategies (light sample, BSDF sample) inside each. Russian roulette stays out
-// of the weights (they only need to sum to one over the techniques, [GDPR] Sec. 3.1), as in the path tracer.
+// with the path tracer's two strategies (light sample, BSDF sample) inside each. A technique's density
+// includes its own Russian roulette and is zero where it cannot produce the path, so the weights sum to one
+// over the techniques that can ([GDPR] Sec. 3.1); tests/gradient_test.cpp T-GR-2 and T-GR-3 check it.
 #pragma once
 
-#include <array>
 #include <vector>
 
 #include "gradient/base_path.h"

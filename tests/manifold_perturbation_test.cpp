@@ -201,87 +201,53 @@ TEST_CASE("manifold perturbation: the density sampled is the T(x -> y) computed,
     CHECK(glossyWalks > 100);
 }
 
-namespace {
-
-// A glass ball over a diffuse floor lit by a small sphere lamp, every length multiplied by `scale`: the
-// caustic beside the ball is a walk of floor -> glass -> glass -> lamp. `eyeHeight` puts the camera
-// that high over the floor, 2.5 away (0.01: the floor seen at 89.8 degrees from its normal). A positive
-// `alpha` frosts the ball (roughdielectric, Beckmann): its chains are glossy.
-std::string ballScene(const test::TempDir& dir, double ior, double scale, double eyeHeight, double alpha = 0) {
-    const auto n = [&](double v) {
-        std::ostringstream s;
-        s.precision(17);
-        s << v * scale;
-        return s.str();
-    };
-    std::ostringstream xml;
-    xml.precision(17);
-    xml << R"(<scene version="0.5.0">
-  <sensor type="perspective"><float name="fov" value="50"/><float name="nearClip" value=")"
-        << n(0.01) << R"("/>
-    <transform name="toWorld"><lookat origin="0,)"
-        << n(eyeHeight) << "," << n(2.5) << R"(" target="0,)" << n(0.2) << R"(,0" up="0,1,0"/></transform>
-    <film type="hdrfilm"><integer name="width" value="32"/><integer name="height" value="32"/></film>
-  </sensor>
-  <shape type="rectangle"><transform name="toWorld"><scale value=")"
-        << n(3) << R"("/><rotate x="1" angle="-90"/></transform>
-    <bsdf type="diffuse"/></shape>
-  <shape type="sphere"><point name="center" x="0" y=")"
-        << n(0.3) << R"(" z="0"/><float name="radius" value=")" << n(0.3) << R"("/>
-    <bsdf type=")"
-        << (alpha > 0 ? "roughdielectric" : "dielectric") << R"("><float name="intIOR" value=")" << ior
-        << R"("/><float name="extIOR" value="1"/>)";
-    if (alpha > 0)
-        xml << R"(<float name="alpha" value=")" << alpha << R"("/><string name="distribution" value="beckmann"/>)";
-    xml << R"(</bsdf></shape>
-  <shape type="sphere"><point name="center" x=")"
-        << n(1) << R"(" y=")" << n(0.6) << R"(" z="0"/><float name="radius" value=")" << n(0.02) << R"("/>
-    <emitter type="area"><rgb name="radiance" value=")"
-        << 100 / (scale * scale) << R"("/></emitter></shape>
-</scene>)";
-    return dir.write("ball.xml", xml.str());
-}
-
-} // namespace
-
-TEST_CASE("manifold perturbation on stiff cases: index nearly matched and 4, scene scales 1e-3 and 1e5, grazing view, "
+TEST_CASE("MEMLT and HSLT on stiff cases: index nearly matched and 4, scene scales 1e-3 and 1e5, grazing view, "
           "glossy glass of roughness 1e-4 to 0.5",
-          "[manifold][mcmc]") {
-    // No NaN or Inf reaches the image, the perturbation moves the chains, and its walk figures add up.
+          "[manifold][hslt][mcmc]") {
+    // No NaN or Inf reaches the image, the perturbation or mutation moves the chains, and its walk figures
+    // add up. With alpha 1e-4 HSLT's steps go to 1e-5 (gamma alpha / sqrt 2) and its walk tolerance with them.
     struct Case {
         double ior, scale, eyeHeight, alpha = 0;
     };
-    for (const Case c : {Case{1.0001, 1, 1}, Case{4, 1, 1}, Case{1.5, 1e-3, 1}, Case{1.5, 1e5, 1}, Case{1.5, 1, 0.01},
-                         Case{1.5, 1, 1, 1e-4}, Case{1.5, 1, 1, 0.01}, Case{1.5, 1, 1, 0.1}, Case{1.5, 1, 1, 0.5},
-                         Case{1.5, 1, 0.01, 0.01}}) {
-        INFO("ior " << c.ior << ", scale " << c.scale << ", eye height " << c.eyeHeight << ", alpha " << c.alpha);
-        test::TempDir dir;
-        const auto scene = loadScene(ballScene(dir, c.ior, c.scale, c.eyeHeight, c.alpha));
-        MutationStatistics stats;
-        const auto image = test::runPathMix(*scene, "bidirectional,manifold", 6, 200000, 3, 2, 20000, &stats);
-        for (const float v : image)
-            REQUIRE(std::isfinite(v));
-        const auto& m = stats[1];
-        INFO(stats.text());
-        CHECK(m.accepted > m.proposed / 10);
-        uint64_t rejected = 0;
-        for (const auto r : m.rejected)
-            rejected += r;
-        CHECK(rejected <= m.proposed - m.accepted);
-        const auto& w = m.walks;
-        uint64_t failed = 0;
-        for (size_t i = 1; i < w.byCause.size(); ++i)
-            failed += w.byCause[i];
-        CHECK(w.attempted == w.converged + failed);
-        CHECK(w.converged > 0);
-    }
+    for (const char* mix : {"bidirectional,manifold", "bidirectional,hslt"})
+        for (const Case c : {Case{1.0001, 1, 1}, Case{4, 1, 1}, Case{1.5, 1e-3, 1}, Case{1.5, 1e5, 1},
+                             Case{1.5, 1, 0.01}, Case{1.5, 1, 1, 1e-4}, Case{1.5, 1, 1, 0.01}, Case{1.5, 1, 1, 0.1},
+                             Case{1.5, 1, 1, 0.5}, Case{1.5, 1, 0.01, 0.01}}) {
+            INFO(mix << ": ior " << c.ior << ", scale " << c.scale << ", eye height " << c.eyeHeight << ", alpha "
+                     << c.alpha);
+            test::TempDir dir;
+            const auto scene = loadScene(test::ballScene(dir, c.ior, c.scale, c.eyeHeight, c.alpha));
+            MutationStatistics stats;
+            const auto image = test::runPathMix(*scene, mix, 6, 200000, 3, 2, 20000, &stats);
+            for (const float v : image)
+                REQUIRE(std::isfinite(v));
+            const auto& m = stats[1];
+            INFO(stats.text());
+            CHECK(m.accepted > m.proposed / 10);
+            uint64_t rejected = 0;
+            for (const auto r : m.rejected)
+                rejected += r;
+            CHECK(rejected <= m.proposed - m.accepted);
+            CHECK(m.rejected[size_t(RejectCause::NonFinite)] == 0);
+            const auto& w = m.walks;
+            uint64_t failed = 0;
+            for (size_t i = 1; i < w.byCause.size(); ++i)
+                failed += w.byCause[i];
+            CHECK(w.attempted == w.converged + failed);
+            CHECK(w.converged > 0);
+            // HSLT's walks each chose a projection order (all but those whose state had no chart).
+            if (m.walks.fromEye + m.walks.fromLight > 0)
+                CHECK(w.fromEye + w.fromLight == w.attempted - w.byCause[size_t(WalkFailure::Singular)]);
+        }
 }
 
-TEST_CASE("MEMLT in the furnace box with a mirror ball and a glass ball: every pixel is Le / (1 - rho)",
-          "[manifold][mcmc]") {
+TEST_CASE("MEMLT and HSLT in the furnace box with a mirror ball and a glass ball: every pixel is Le / (1 - rho)",
+          "[manifold][hslt][mcmc]") {
     // Lossless specular balls in a furnace whose walls emit 1 and reflect rho: the radiance is 1 / (1 - rho)
     // everywhere, seen directly, in the mirror or through the glass. The chains' image mean must be it
-    // (paths beyond 12 edges are cut: with rho 0.2 and balls that lose nothing, under 1e-3 of it).
+    // (paths beyond 12 edges are cut: with rho 0.2 and balls that lose nothing, under 1e-3 of it). Every
+    // path through a ball has specular vertices: HSLT holds their half vectors at 0 and turns their deltas
+    // into half-vector measure (|det C| / G, half_vector_mutation.h).
     test::TempDir dir;
     const double rho = 0.2;
     const auto scene = loadScene(test::furnaceBox(dir, rho, 12, "box", 1, R"(
@@ -290,15 +256,18 @@ TEST_CASE("MEMLT in the furnace box with a mirror ball and a glass ball: every p
   <shape type="sphere"><point name="center" x="-0.2" y="0.3" z="-0.7"/><float name="radius" value="0.2"/>
     <bsdf type="dielectric"/></shape>)"));
     const double exact = 1 / (1 - rho);
-    std::vector<double> means;
-    MutationStatistics stats;
-    for (uint64_t seed = 0; seed < 8; ++seed) {
-        const auto image = test::runPathMix(*scene, "bidirectional,manifold", 12, 24 * 24 * 32, seed, 2, 20000, &stats);
-        means.push_back(test::imageMean(image));
+    for (const char* mix : {"bidirectional,manifold", "bidirectional,hslt:3"}) {
+        std::vector<double> means;
+        MutationStatistics stats;
+        for (uint64_t seed = 0; seed < 8; ++seed) {
+            const auto image = test::runPathMix(*scene, mix, 12, 24 * 24 * 32, seed, 2, 20000, &stats);
+            means.push_back(test::imageMean(image));
+        }
+        const auto m = test::meanAndError(means);
+        INFO(mix << ": " << m.mean << " +- " << m.error << ", exact " << exact << "\n" << stats.text());
+        CHECK(std::abs(m.mean - exact) < 5 * m.error + 1e-3 * exact);
+        CHECK(m.error < 0.02 * exact);
+        CHECK(stats[1].walks.converged > 100);
+        CHECK(stats[1].accepted > stats[1].proposed / 4);
     }
-    const auto m = test::meanAndError(means);
-    INFO("MEMLT: " << m.mean << " +- " << m.error << ", exact " << exact << "\n" << stats.text());
-    CHECK(std::abs(m.mean - exact) < 5 * m.error + 1e-3 * exact);
-    CHECK(m.error < 0.02 * exact);
-    CHECK(stats[1].walks.converged > 100);
 }

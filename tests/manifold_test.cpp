@@ -16,8 +16,10 @@
 #include "math/rng.h"
 #include "path/vertex.h"
 #include "scene/scene.h"
+#include "test_shapes.h"
 
 using namespace lt;
+using test::box;
 
 namespace {
 
@@ -28,8 +30,8 @@ ManifoldVertex chartPoint(const Vec3& p, const Vec3& dpdu, const Vec3& dpdv, con
     ManifoldVertex v;
     v.p = p;
     v.ng = v.n = n;
-    v.dpdu = dpdu;
-    v.dpdv = dpdv;
+    v.dpdu = v.frameU = dpdu;
+    v.dpdv = v.frameV = dpdv;
     v.dndu = dndu;
     v.dndv = dndv;
     return v;
@@ -47,20 +49,6 @@ Shape quad(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
     TriangleMesh m;
     m.positions = {Vec3f(a), Vec3f(b), Vec3f(c), Vec3f(d)};
     m.triangles = {{0, 1, 2}, {0, 2, 3}};
-    return Shape::triangles(std::move(m), false);
-}
-
-// An axis-aligned box [lo, hi] with outward normals, as a mesh.
-Shape box(const Vec3& lo, const Vec3& hi) {
-    TriangleMesh m;
-    for (int i = 0; i < 8; ++i)
-        m.positions.push_back(Vec3f(Vec3(i & 1 ? hi.x : lo.x, i & 2 ? hi.y : lo.y, i & 4 ? hi.z : lo.z)));
-    const std::array<std::array<uint32_t, 4>, 6> faces{
-        {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}}};
-    for (const auto& f : faces) {
-        m.triangles.push_back({f[0], f[1], f[2]});
-        m.triangles.push_back({f[0], f[2], f[3]});
-    }
     return Shape::triangles(std::move(m), false);
 }
 

@@ -190,6 +190,12 @@ void checkVisits(const Scene& scene, const std::vector<double>& expected, const 
     // stages moves the chains across bins often enough for a wrong factor in it to show.
     MutationSettings settings{edges};
     settings.lambda = 5;
+    // The half-vector mutation with gamma 1 (the BSDF lobe's own width) and image steps of 10 % (HSLT: 2 %):
+    // large enough to carry the chains across bins. (Larger image steps made the sum of z^2 of the glossy
+    // pair erratic, 40 to 208 between seeds and step sizes with no trend: chains that stay long where
+    // |det J| is small, not a bias.)
+    settings.hsltGamma = 1;
+    settings.hsltStratify = 0.1;
     // Seeds are draws in proportion to f*, so every chain starts in the stationary distribution: no
     // burn-in is discarded.
     PathSettings bdpt;
@@ -329,6 +335,8 @@ TEST_CASE("path-space chains visit a tiny path space in proportion to f*", "[mcm
     checkVisits(*scene, expected,
                 {"bidirectional", "bidirectional,lens", "bidirectional,lens-subpath", "bidirectional,manifold"}, 2,
                 Light, Glossy, 1, 0);
+    // HSLT weighted 15 to 1, so that its stationary distribution dominates.
+    checkVisits(*scene, expected, {"bidirectional,hslt:15"}, 2, Light, Glossy, 1, 0, 0, {"hslt"});
 }
 
 namespace {
@@ -467,6 +475,12 @@ TEST_CASE("path-space chains through a mirror visit a tiny path space in proport
         checkVisits(*scene, expected,
                     {mc.caustic ? "bidirectional,caustic" : "bidirectional,lens", "bidirectional,manifold"}, 3,
                     mc.light, mc.receiver, mc.caustic ? 2 : 1, 0);
+        // HSLT: the mirror's half vector held at 0, its delta turned into half-vector measure by |det C| / G
+        // (half_vector_mutation.h).
+        // Weighted 4 to 1: at 15 to 1 its chains, slower to cross the receiver than the perturbations', left
+        // the least likely bin known to 14 % only.
+        checkVisits(*scene, expected, {"bidirectional,hslt:4"}, 3, mc.light, mc.receiver, mc.caustic ? 2 : 1, 0, 0,
+                    {"hslt"});
     }
 }
 
@@ -607,5 +621,6 @@ TEST_CASE("path-space chains through two glossy bounces visit a tiny path space 
         // chains ergodic but rarely moves them here (2.7 % accepted: the lobes are narrow and the light a
         // point), so only the perturbation must move them often.
         checkVisits(*scene, expected, {"bidirectional,manifold:15"}, 3, G1, G2, 2, 2, 1, {"manifold"});
+        checkVisits(*scene, expected, {"bidirectional,hslt:15"}, 3, G1, G2, 2, 2, 1, {"hslt"});
     }
 }

@@ -536,6 +536,6 @@ TEST_CASE(
     CHECK(w.chosen[1].weight == 2);
     CHECK(w.chosen[2].weight == 1);
     CHECK(chooseMutations("bidirectional,lens-subpath", glass).chosen[1].name == "lens-subpath");
-    CHECK_THROWS_WITH(chooseMutations("bidirectional,half-vector", glass), Catch::Contains("not built yet"));
+    CHECK_THROWS_WITH(chooseMutations("bidirectional,portal", glass), Catch::Contains("not built yet"));
     CHECK_THROWS_WITH(chooseMutations("lens,caustic", glass), Catch::Contains("bidirectional"));
 }

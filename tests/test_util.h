@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <functional>
 #include <fstream>
+#include <sstream>
 #include <string>
 
 #include "math/error.h"
@@ -78,6 +79,45 @@ inline std::string furnaceBox(const TempDir& dir, double rho, int maxDepth, cons
   </shape>
 )" + inside + R"(
 </scene>)");
+}
+
+// A glass ball over a diffuse floor lit by a small sphere lamp, every length multiplied by `scale`: the
+// caustic beside the ball is a walk of floor -> glass -> glass -> lamp. `eyeHeight` puts the camera
+// that high over the floor, 2.5 away (0.01: the floor seen at 89.8 degrees from its normal). A positive
+// `alpha` frosts the ball (roughdielectric, Beckmann): its chains are glossy.
+inline std::string ballScene(const TempDir& dir, double ior, double scale, double eyeHeight, double alpha = 0) {
+    const auto n = [&](double v) {
+        std::ostringstream s;
+        s.precision(17);
+        s << v * scale;
+        return s.str();
+    };
+    std::ostringstream xml;
+    xml.precision(17);
+    xml << R"(<scene version="0.5.0">
+  <sensor type="perspective"><float name="fov" value="50"/><float name="nearClip" value=")"
+        << n(0.01) << R"("/>
+    <transform name="toWorld"><lookat origin="0,)"
+        << n(eyeHeight) << "," << n(2.5) << R"(" target="0,)" << n(0.2) << R"(,0" up="0,1,0"/></transform>
+    <film type="hdrfilm"><integer name="width" value="32"/><integer name="height" value="32"/></film>
+  </sensor>
+  <shape type="rectangle"><transform name="toWorld"><scale value=")"
+        << n(3) << R"("/><rotate x="1" angle="-90"/></transform>
+    <bsdf type="diffuse"/></shape>
+  <shape type="sphere"><point name="center" x="0" y=")"
+        << n(0.3) << R"(" z="0"/><float name="radius" value=")" << n(0.3) << R"("/>
+    <bsdf type=")"
+        << (alpha > 0 ? "roughdielectric" : "dielectric") << R"("><float name="intIOR" value=")" << ior
+        << R"("/><float name="extIOR" value="1"/>)";
+    if (alpha > 0)
+        xml << R"(<float name="alpha" value=")" << alpha << R"("/><string name="distribution" value="beckmann"/>)";
+    xml << R"(</bsdf></shape>
+  <shape type="sphere"><point name="center" x=")"
+        << n(1) << R"(" y=")" << n(0.6) << R"(" z="0"/><float name="radius" value=")" << n(0.02) << R"("/>
+    <emitter type="area"><rgb name="radiance" value=")"
+        << 100 / (scale * scale) << R"("/></emitter></shape>
+</scene>)";
+    return dir.write("ball.xml", xml.str());
 }
 
 } // namespace lt::test

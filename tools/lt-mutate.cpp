@@ -41,7 +41,8 @@ int main(int argc, char** argv) {
     std::string scenePath, seedsPath, out, space = "path", resolution, snapshotTimes, snapshotMutations,
                                            strategies = "auto", dumpPaths;
     uint64_t mutations = 0, seed = 0, startupSamples = 0;
-    double timeLimit = 0, mutationsPerPixel = 0, largeStep = 0.3, refineB = 1.0 / 16, lambda = 50;
+    double timeLimit = 0, mutationsPerPixel = 0, largeStep = 0.3, refineB = 1.0 / 16, lambda = 50, hsltGamma = 0.1,
+           hsltStratify = 0.02;
     int chains = 256, threads = 0, maxDepth = -2, unbounded = 12, round = 64;
     size_t dumpEvery = 0;
     bool quiet = false;
@@ -60,6 +61,14 @@ int main(int argc, char** argv) {
                    "manifold perturbation: the direction lobe's peak as lambda^2 times the BSDF's sampling density "
                    "(default 50; Jakob & Marschner suggest 50-500: larger takes smaller steps)")
         ->check(CLI::PositiveNumber);
+    app.add_option("--hslt-gamma", hsltGamma,
+                   "half-vector mutation: its step at each vertex as gamma times the Beckmann lobe's standard "
+                   "deviation (default 0.1, HSLT's value for all its images; in (0, 1])")
+        ->check(CLI::Range(0.0, 1.0));
+    app.add_option("--hslt-stratify", hsltStratify,
+                   "half-vector mutation: the image-plane step limiting it, a fraction of the image (default 0.02, "
+                   "HSLT's; 0 turns the limit off)")
+        ->check(CLI::Range(0.0, 1.0));
     app.add_option("--mutations", mutations, "total mutations over all chains")->check(CLI::PositiveNumber);
     app.add_option("--mutations-per-pixel", mutationsPerPixel, "total mutations as a multiple of the pixel count")
         ->check(CLI::PositiveNumber);
@@ -112,6 +121,9 @@ int main(int argc, char** argv) {
             throw lt::Error("--strategies selects path-space mutations; --space " + space +
                             " has its own (large and small steps, --large-step)");
         if (space != "path" && app.count("--lambda")) throw lt::Error("--lambda is for --space path");
+        if (space != "path" && (app.count("--hslt-gamma") || app.count("--hslt-stratify")))
+            throw lt::Error("--hslt-gamma and --hslt-stratify are for --space path");
+        if (!(hsltGamma > 0)) throw lt::Error("--hslt-gamma must lie in (0, 1], got " + std::to_string(hsltGamma));
         // CLI11's range check lets NaN through; refuse it before the seeding, not after.
         if (!std::isfinite(lambda))
             throw lt::Error("--lambda must be a positive number, got " + std::to_string(lambda));
@@ -203,6 +215,11 @@ int main(int argc, char** argv) {
             usesManifold = std::any_of(choice.chosen.begin(), choice.chosen.end(),
                                        [](const auto& e) { return e.name == "manifold"; });
             if (usesManifold) params["lambda"] = lambda;
+            if (std::any_of(choice.chosen.begin(), choice.chosen.end(),
+                            [](const auto& e) { return e.name == "hslt"; })) {
+                params["hslt_gamma"] = hsltGamma;
+                params["hslt_stratify"] = hsltStratify;
+            }
             for (const auto& why : choice.leftOut)
                 if (!quiet) std::cerr << "lt-mutate: left out: " << why << '\n';
             if (!quiet && ps.paths.maxDepth < 0)
@@ -243,6 +260,8 @@ int main(int argc, char** argv) {
                               << '\n';
             }
             lt::MutationSettings settings{maxEdges, lambda};
+            settings.hsltGamma = hsltGamma;
+            settings.hsltStratify = hsltStratify;
             if (usesManifold && features.glossySurfaces) {
                 // ME App. A1: Delta-theta, which sets how often a glossy vertex is treated as specular, is
                 // measured before the chains start and then held (an adaptive chain would not be Markov).

@@ -1,5 +1,7 @@
 #include "manifold/manifold_vertex.h"
 
+#include <cmath>
+
 #include "manifold/block_tridiagonal.h"
 
 namespace lt {
@@ -23,6 +25,14 @@ std::optional<ManifoldVertex> manifoldVertex(const SurfaceInteraction& si) {
     v.dpdv = vRest / lv;
     v.dndu = si.dndu * a;
     v.dndv = (si.dndv - si.dndu * (proj * a)) / lv;
+    // The frame generators: the world axes other than the geometric normal's dominant one.
+    const Vec3 ng = si.ng;
+    const int m = std::abs(ng.x) >= std::abs(ng.y) && std::abs(ng.x) >= std::abs(ng.z) ? 0
+                  : std::abs(ng.y) >= std::abs(ng.z)                                   ? 1
+                                                                                       : 2;
+    const Vec3 axes[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    v.frameU = axes[(m + 1) % 3];
+    v.frameV = axes[(m + 2) % 3];
     v.shape = si.shape;
     v.prim = si.prim;
     v.coords = si.coords;
@@ -35,8 +45,8 @@ ManifoldVertex planeVertex(const Vec3& p, const Vec3& normal) {
     ManifoldVertex v;
     v.p = p;
     v.ng = v.n = normal;
-    v.dpdu = f.s;
-    v.dpdv = f.t;
+    v.dpdu = v.frameU = f.s;
+    v.dpdv = v.frameV = f.t;
     return v;
 }
 

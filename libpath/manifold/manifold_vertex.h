@@ -5,13 +5,19 @@
 //   v the rest of dp/dv), with dn/du, dn/dv (derivatives of the normalized shading normal n)
 //   transformed by the same linear map (ME footnote 2; Mitsuba's init()). A vertex moves in its chart,
 //   x(a, b) = x + a u + b v, so chart area is surface area and Eq. 9 needs no extra determinants.
-// * Tangent frame. T(x) = [s t] with s = u - (u.n) n, t = v - (v.n) n: the chart tangents projected
-//   into the shading plane (unit only where n equals the geometric normal). The frame field around x is
-//   the same u, v projected onto the shading normal at the moved point; its derivative is the
-//   frame-rotation (curvature) part of the B block. On the specular manifold (c = 0) that part does not
-//   depend on the choice of field; off it (offset vertices, HSLT's h-perp) it does, so every user of
-//   the constraint (Jacobian, tangent maps, Newton solve, proposals) must use this same field (mixing
-//   two frame fields biases the chain without any visible error).
+// * Tangent frame. T(x) = [s t] with s = a - (a.n) n, t = b - (b.n) n: two frame generators a, b
+//   projected into the shading plane (unit only where n is perpendicular to a and b). The generators are
+//   the two world axes other than the dominant axis of the geometric normal: a function of the point
+//   alone, constant over each triangle (its geometric normal is) and over each of the six cube-map
+//   regions of a sphere, and never degenerate (|s x t| = |n.e| >= 1/sqrt 3 where n is the geometric
+//   normal, e the dominant axis). Within a region the field's derivative is exactly the rotation of the
+//   shading normal, the frame-rotation part of the B block. On the specular manifold (c = 0) that part
+//   does not depend on the choice of field; off it (offset vertices, HSLT's h-perp) it does, so every
+//   user of the constraint (Jacobian, tangent maps, Newton solve, proposals, densities) must use this
+//   one field: mixing two fields biases a chain without any visible error. The chart tangents are not
+//   generators for that reason: on a sphere or disk dp/du turns within the tangent plane as the point
+//   moves, a rotation B would not contain. Where a walk crosses from one region into another the
+//   coordinates jump; it lands on another solution, which its reverse check rejects.
 // * Constraint. c = T^T h = (s.h, t.h) with h the generalized half vector (bsdf/half_vector.h),
 //   oriented to the side of n; specular_constraint.h.
 #pragma once
@@ -30,6 +36,7 @@ struct ManifoldVertex {
     Vec3 n;          // unit shading normal
     Vec3 dpdu, dpdv; // orthonormal chart of the tangent plane
     Vec3 dndu, dndv; // derivatives of the shading normal along the chart
+    Vec3 frameU{1, 0, 0}, frameV{0, 1, 0}; // the frame generators a, b of the convention above
     int shape = -1;  // Scene::shapes index (-1: no surface)
     uint32_t prim = 0;
     Vec2 coords; // as SurfaceInteraction::coords
@@ -43,8 +50,8 @@ struct ManifoldVertex {
     [[nodiscard]] bool onSurface() const { return lengthSquared(ng) > 0; }
     [[nodiscard]] RayEndpoint endpoint() const { return {p, ng, magnitude}; }
     // The tangent frame T(x) = [s t] of the convention above.
-    [[nodiscard]] Vec3 s() const { return dpdu - n * dot(dpdu, n); }
-    [[nodiscard]] Vec3 t() const { return dpdv - n * dot(dpdv, n); }
+    [[nodiscard]] Vec3 s() const { return frameU - n * dot(frameU, n); }
+    [[nodiscard]] Vec3 t() const { return frameV - n * dot(frameV, n); }
     // A world direction in frame coordinates: T^T w.
     [[nodiscard]] Vec2 frameCoordinates(const Vec3& w) const { return {dot(s(), w), dot(t(), w)}; }
     // Index-matched transmission: the half vector vanishes at the solution and is used unnormalized

@@ -53,9 +53,8 @@ Vec3 virtualPlaneNormal(const ManifoldVertex& from, const ManifoldVertex& to) {
     return lq > 1e-12 ? q / lq : g;
 }
 
-// The first surface along from -> dir, with the hit refined in double precision from the exact
-// origin (Embree intersects in float from an offset origin; the walk needs ~1e-7 relative accuracy,
-// ME section 4): the ray against the hit triangle's plane, or the analytic shape again.
+} // namespace
+
 std::optional<SurfaceInteraction> traceSurface(const Scene& scene, const ManifoldVertex& from, const Vec3& dir) {
     const auto hit = scene.intersectHit(spawnRay(from.endpoint(), dir));
     if (!hit) return std::nullopt;
@@ -78,8 +77,6 @@ std::optional<SurfaceInteraction> traceSurface(const Scene& scene, const Manifol
     si.t = length(si.p - from.p);
     return si;
 }
-
-} // namespace
 
 std::variant<Vec3, WalkFailure> scatterHeld(const ManifoldVertex& v, const Vec3& wi, const Vec3& oldWi,
                                             const Vec3& oldNg) {
@@ -209,13 +206,16 @@ WalkResult reverseWalk(const Scene& scene, std::span<const ManifoldVertex> origi
     const ManifoldVertex& start = moving == WalkEnd::Last ? original.back() : original.front();
     WalkResult r = walkManifold(scene, walked, start, moving, settings);
     if (!r.converged()) return r;
-    const double tol = relativeTolerance * scene.bounds.diagonal();
-    for (size_t i = 0; i < original.size(); ++i)
-        if (!(length(r.chain[i].p - original[i].p) <= tol)) {
-            r.failure = WalkFailure::NonReversible;
-            break;
-        }
+    if (!sameChain(r.chain, original, relativeTolerance * scene.bounds.diagonal()))
+        r.failure = WalkFailure::NonReversible;
     return r;
+}
+
+bool sameChain(std::span<const ManifoldVertex> a, std::span<const ManifoldVertex> b, double tolerance) {
+    if (a.size() != b.size()) return false;
+    for (size_t i = 0; i < a.size(); ++i)
+        if (!(length(a[i].p - b[i].p) <= tolerance)) return false;
+    return true;
 }
 
 } // namespace lt

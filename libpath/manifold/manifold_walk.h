@@ -56,6 +56,13 @@ struct WalkResult {
                                       const ManifoldVertex& target, WalkEnd moving = WalkEnd::Last,
                                       const WalkSettings& settings = {});
 
+// The first surface along from -> dir (dir unit), its hit refined in double precision from the exact
+// origin: Embree intersects in float from an offset origin, while walks need ~1e-7 relative accuracy (ME
+// section 4). The ray is intersected with the hit triangle's plane, or the analytic shape again. The
+// one place walks and HSLT's projections trace.
+[[nodiscard]] std::optional<SurfaceInteraction> traceSurface(const Scene& scene, const ManifoldVertex& from,
+                                                             const Vec3& dir);
+
 // The scattering of an interior chain vertex v (scatter, eta and offset set; its new position) for the
 // direction wi (unit, away from v): reflected or refracted about the microfacet normal its held offset
 // gives in v's frame (m = n for a specular vertex). The configuration must stay what it was: wi on the
@@ -78,6 +85,10 @@ struct PropagateResult {
 // (Mitsuba's extra check: the last two vertices converged onto the same point).
 [[nodiscard]] PropagateResult propagateChain(const Scene& scene, std::span<const ManifoldVertex> chain,
                                              const Vec3& toward, const ManifoldVertex& plane, double collapse);
+
+// Every vertex of `a` within `tolerance` (a distance) of the same vertex of `b` (chains of one length):
+// how the reverse checks of the walks decide that a walk came back.
+[[nodiscard]] bool sameChain(std::span<const ManifoldVertex> a, std::span<const ManifoldVertex> b, double tolerance);
 
 // The reversibility check of ME section 5.1 step 4: walk `walked` (the result of walking `original`)
 // back to the original's moving endpoint and require every vertex to return within

@@ -73,7 +73,7 @@ std::optional<ConstraintRow> constraintRow(const ManifoldVertex& prev, const Man
     row.C = block(v, next.dpdu, next.dpdv,
                   [&](const Vec3& d) { return dHalf(*st, dDirection(st->wo, st->invDo, d) * v.eta); });
     // Moving x_i turns both directions (with opposite sign) and rotates the frame: with the field
-    // s = u - (u.n) n of manifold_vertex.h, ds = -(u.dn) n - (u.n) dn (ME section 3.3, dT/du).
+    // s = a - (a.n) n of manifold_vertex.h (a constant), ds = -(a.dn) n - (a.n) dn (ME section 3.3, dT/du).
     row.B = block(v, v.dpdu, v.dpdv, [&](const Vec3& d) {
         return dHalf(*st, -(dDirection(st->wi, st->invDi, d) + dDirection(st->wo, st->invDo, d) * v.eta));
     });
@@ -81,8 +81,8 @@ std::optional<ConstraintRow> constraintRow(const ManifoldVertex& prev, const Man
     const double hn = dot(st->h, v.n);
     for (int k = 0; k < 2; ++k) {
         const double hdn = dot(st->h, dn[k]);
-        row.B.m[0][size_t(k)] += -dot(v.dpdu, dn[k]) * hn - dot(v.dpdu, v.n) * hdn;
-        row.B.m[1][size_t(k)] += -dot(v.dpdv, dn[k]) * hn - dot(v.dpdv, v.n) * hdn;
+        row.B.m[0][size_t(k)] += -dot(v.frameU, dn[k]) * hn - dot(v.frameU, v.n) * hdn;
+        row.B.m[1][size_t(k)] += -dot(v.frameV, dn[k]) * hn - dot(v.frameV, v.n) * hdn;
     }
     return row;
 }

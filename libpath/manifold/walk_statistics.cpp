@@ -10,6 +10,8 @@ void WalkStatistics::add(const WalkOutcome& w) {
     ++attempted;
     ++byCause[size_t(w.failure)];
     ++chainLengths[w.chainLength];
+    iterationsAll += uint64_t(w.iterations);
+    if (w.fromEye) ++(*w.fromEye ? fromEye : fromLight);
     if (w.failure == WalkFailure::None) {
         ++converged;
         iterationsConverged += uint64_t(w.iterations);
@@ -20,8 +22,10 @@ void WalkStatistics::add(const WalkOutcome& w) {
 file::StatTable WalkStatistics::table(const std::string& name, const std::string& row) const {
     file::StatTable t;
     t.name = name;
-    t.columns = {"attempted", "converged", "mean_iterations", "max_iterations"};
-    std::vector<double> values = {double(attempted), double(converged), meanIterations(), double(maxIterations)};
+    t.columns = {"attempted",           "converged",          "mean_iterations",     "max_iterations",
+                 "mean_iterations_all", "projected_from_eye", "projected_from_light"};
+    std::vector<double> values = {double(attempted),   double(converged), meanIterations(), double(maxIterations),
+                                  meanIterationsAll(), double(fromEye),   double(fromLight)};
     for (size_t i = 1; i < byCause.size(); ++i) {
         // A column name without blanks: "left the surface / missed" -> "failed_left_the_surface".
         std::string cause(walkFailureName(WalkFailure(i)));
@@ -39,11 +43,16 @@ void WalkStatistics::merge(const WalkStatistics& o) {
     attempted += o.attempted;
     converged += o.converged;
     iterationsConverged += o.iterationsConverged;
+    iterationsAll += o.iterationsAll;
+    fromEye += o.fromEye;
+    fromLight += o.fromLight;
     maxIterations = std::max(maxIterations, o.maxIterations);
     for (size_t i = 0; i < byCause.size(); ++i)
         byCause[i] += o.byCause[i];
     for (const auto& [len, n] : o.chainLengths)
         chainLengths[len] += n;
+    for (const auto& [len, a] : o.acceptanceByLength)
+        acceptanceByLength[len] += a;
 }
 
 void WalkStatistics::print(std::ostream& out) const {
@@ -54,7 +63,9 @@ void WalkStatistics::print(std::ostream& out) const {
     out << "  " << std::setw(36) << "converged" << converged << " (" << pct(converged) << " %)\n";
     out << std::setprecision(2);
     out << "  " << std::setw(36) << "iterations (converged)"
-        << "mean " << meanIterations() << ", max " << maxIterations << "\n";
+        << "mean " << meanIterations() << ", max " << maxIterations << "; per walk " << meanIterationsAll() << "\n";
+    if (fromEye + fromLight)
+        out << "  " << std::setw(36) << "projected from the eye / light" << fromEye << " / " << fromLight << "\n";
     out << std::setprecision(1);
     for (size_t i = 1; i < byCause.size(); ++i)
         if (byCause[i])
@@ -67,6 +78,17 @@ void WalkStatistics::print(std::ostream& out) const {
         first = false;
     }
     out << "\n";
+    if (!acceptanceByLength.empty()) {
+        out << "  " << std::setw(36) << "acceptance by chain length";
+        first = true;
+        for (const auto& [len, a] : acceptanceByLength) {
+            const auto it = chainLengths.find(len);
+            const double n = it == chainLengths.end() ? 0.0 : double(it->second);
+            out << (first ? "" : ", ") << len << ": " << (n > 0 ? 100 * a / n : 0.0) << " %";
+            first = false;
+        }
+        out << "\n";
+    }
     out.flags(flags);
 }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "bsdf/shading_correction.h"
+#include "manifold/manifold_vertex.h"
 #include "math/error.h"
 #include "path/path_record.h"
 
@@ -132,6 +133,16 @@ double densityFromEye(const Scene& scene, const SensorWindow& sensor, const std:
         return imp && rad ? eyeSideDeltaDensity(*imp, *rad, geometryTerm(from, v[i])) : 0.0;
     }
     return from.pdf(scene, &v[i + 2], v[i]);
+}
+
+void moveVertex(const Scene& scene, const ManifoldVertex& m, PathVertex& v) {
+    const Lobes kind = v.lobe;
+    const bool delta = v.delta;
+    SurfaceInteraction si = scene.shapes[size_t(m.shape)].surfaceAt(m.prim, m.coords);
+    si.shape = m.shape;
+    setSurfaceVertex(scene, std::move(si), v);
+    v.lobe = kind;
+    v.delta = delta;
 }
 
 } // namespace lt

@@ -62,6 +62,11 @@ struct MarkovPath {
 // barycentrics, then evaluated. Throws lt::Error naming the record when it does not fit the scene.
 [[nodiscard]] MarkovPath pathFromRecord(const Scene& scene, const file::PathRecord& record, size_t index);
 
+struct ManifoldVertex;
+// Move surface vertex v to where a manifold walk left it (m's shape, primitive and coordinates, the
+// surface re-created there), keeping the lobe it scattered by and whether that was a delta.
+void moveVertex(const Scene& scene, const ManifoldVertex& m, PathVertex& v);
+
 // Densities of re-sampling vertex i (delta-stripped, area measure; BDPT's pdf_fwd / pdf_rev):
 // from the light side (i = 0: choosing the light point; i = 1: emission from v[0]; otherwise scattering at
 // v[i-1] given v[i-2]) and from the eye side (scattering at v[i+1] given v[i+2]; i = k - 1: the camera

@@ -17,6 +17,8 @@ struct MutationSettings {
     int maxEdges = -1;  // bound on path edges (the bidirectional mutation and lens subpaths keep to it)
     double lambda = 50; // the manifold perturbation's lobe peak relative to the BSDF's (ME Sec. 5.1)
     double normalChange = Pi / 180; // its Delta-theta (ME App. A1; measureNormalChange), radians
+    double hsltGamma = 0.1;         // the half-vector mutation's BSDF step scale (HSLT Sec. 6.1)
+    double hsltStratify = 0.02;     // its image-plane step, a fraction of the image (HSLT Sec. 6.2; 0: off)
 };
 
 struct MutationKind {

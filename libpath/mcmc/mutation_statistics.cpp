@@ -5,6 +5,17 @@
 
 namespace lt {
 
+RejectCause rejectCauseOf(WalkFailure f) {
+    switch (f) {
+    case WalkFailure::Occluded:
+        return RejectCause::Occluded;
+    case WalkFailure::NonReversible:
+        return RejectCause::NotReversible;
+    default:
+        return RejectCause::WalkFailed;
+    }
+}
+
 const char* rejectCauseName(RejectCause c) {
     switch (c) {
     case RejectCause::ZeroContribution:

@@ -26,6 +26,8 @@ enum class RejectCause : int {
     Count
 };
 [[nodiscard]] const char* rejectCauseName(RejectCause c);
+// How a proposal whose manifold walk failed is counted: occluded, not reversible, or walk failed.
+[[nodiscard]] RejectCause rejectCauseOf(WalkFailure f);
 
 struct StrategyCounters {
     uint64_t proposed = 0;

@@ -5,10 +5,11 @@
 # seeds itself with BDPT inside its time and takes --strategies auto: Veach's perturbations, and the
 # manifold perturbation on scenes with specular chains); memlt
 # (path space with the bidirectional mutation and the manifold perturbation, as Jakob & Marschner define
-# MEMLT); gpt, gdpr (lt-gradient --method gpt | gdpr, then lt-reconstruct --norm l2, the unbiased one, every
+# MEMLT); hslt (path space with the bidirectional and half-vector mutations, the pairing of Kaplanyan et al.
+# 2014); gpt, gdpr (lt-gradient --method gpt | gdpr, then lt-reconstruct --norm l2, the unbiased one, every
 # snapshot reconstructed) and gpt-l1, gdpr-l1 (the same with --norm l1); the gradient buffer is kept beside the
 # image as gpt.gradient.lts or gdpr.gradient.lts. Methods of tools that do not exist yet are refused by name.
-known_methods="pt bdpt mlt pssmlt mmlt memlt gpt gdpr gpt-l1 gdpr-l1"
+known_methods="pt bdpt mlt pssmlt mmlt memlt hslt gpt gdpr gpt-l1 gdpr-l1"
 
 render_method() {
   local method="$1" file="$2" time="$3" seed="$4"; shift 4
@@ -19,6 +20,9 @@ render_method() {
       "$bin/lt-mutate" "$scene" --space "$space" --time "$time" --seed "$seed" --snapshots doubling -o "$file" -q "$@" ;;
     memlt)
       "$bin/lt-mutate" "$scene" --strategies bidirectional,manifold --time "$time" --seed "$seed" --snapshots doubling \
+        -o "$file" -q "$@" ;;
+    hslt)
+      "$bin/lt-mutate" "$scene" --strategies bidirectional,hslt --time "$time" --seed "$seed" --snapshots doubling \
         -o "$file" -q "$@" ;;
     gpt|gdpr|gpt-l1|gdpr-l1)
       # One render per estimator and comparison: gpt and gpt-l1 of one run of compare.sh (which touches
@@ -31,8 +35,8 @@ render_method() {
           -o "$gradient" -q "$@"
       fi
       "$bin/lt-reconstruct" "$gradient" --norm "$norm" -o "$file" -q ;;
-    hslt|portal)
-      echo "$0: method '$method' needs a part that does not exist yet (half-vector or portal mutations)" >&2; return 1 ;;
+    portal)
+      echo "$0: method '$method' needs a part that does not exist yet (the portal perturbation)" >&2; return 1 ;;
     *) echo "$0: unknown method '$method' (known: $known_methods)" >&2; return 1 ;;
   esac
 }

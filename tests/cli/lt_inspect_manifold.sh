@@ -16,7 +16,7 @@ check "--manifold: chains listed with G and walk outcomes" 'grep -Eq "^  chain v
 check "--manifold: summary line" 'grep -Eq "^paths 200, with specular chains [1-9][0-9]*, chains [1-9][0-9]* \(rebuilt [1-9][0-9]*\)" "$tmp/m.txt"'
 # Analytic spheres: nearly every walk to a nearby point converges (ME reports 92-98 %).
 check "--manifold: walk statistics, most walks converge" 'awk "/^  converged/ { gsub(/[()%]/, \"\"); exit !(\$3 >= 80) }" "$tmp/m.txt"'
-check "--manifold: iterations and chain lengths" 'grep -Eq "^  iterations \(converged\) +mean [0-9.]+, max [0-9]+$" "$tmp/m.txt" && grep -Eq "^  chain lengths \(vertices\) +[0-9]+: [0-9]+" "$tmp/m.txt"'
+check "--manifold: iterations and chain lengths" 'grep -Eq "^  iterations \(converged\) +mean [0-9.]+, max [0-9]+; per walk [0-9.]+$" "$tmp/m.txt" && grep -Eq "^  chain lengths \(vertices\) +[0-9]+: [0-9]+" "$tmp/m.txt"'
 check "--manifold --scene gives the same report" '"$bin/lt-inspect" "$tmp/a.ltp" --manifold --limit 3 --scene "$scene" | cmp -s - "$tmp/m.txt"'
 
 "$bin/lt-inspect" "$tmp/a.ltp" --manifold --scene "$src/tests/cli/tiny_box.xml" > "$tmp/e1.txt" 2>&1; code=$?

@@ -50,7 +50,7 @@ check "Ctrl-C: a complete file with the work done" '[ "$(tail -c 16 "$tmp/int.lt
 
 out=$("$bin/lt-mutate" "$scene" -o "$tmp/x.lts" 2>&1); code=$?
 check "no length given: one error line" '[ $code -ne 0 ] && [ "$(echo "$out" | wc -l)" -eq 1 ]'
-out=$("$bin/lt-mutate" "$scene" --time 1 --strategies bidirectional,half-vector -o "$tmp/x.lts" 2>&1); code=$?
+out=$("$bin/lt-mutate" "$scene" --time 1 --strategies bidirectional,portal -o "$tmp/x.lts" 2>&1); code=$?
 check "a strategy not built yet is refused by name" '[ $code -ne 0 ] && echo "$out" | grep -q "not built yet"'
 out=$("$bin/lt-mutate" "$scene" --time 1 --strategies bidirectional,manifold --lambda 0 -o "$tmp/x.lts" 2>&1); code=$?
 check "--lambda 0 refused" '[ $code -ne 0 ] && echo "$out" | grep -q lambda'
@@ -86,6 +86,19 @@ check "bidirectional,lens:2,caustic,lens-subpath: the table lists all four" \
 check "bidirectional,manifold: exit 0, walk columns" \
     '[ $code -eq 0 ] && grep -q "^manifold" "$tmp/me-err" && grep -q "walk failed" "$tmp/me-err"'
 check "bidirectional,manifold: lambda and the walk figures stored" '"$bin/lt-inspect" "$tmp/me.lts" | grep -q "lambda" && "$bin/lt-inspect" "$tmp/me.lts" | grep -q "walks.manifold"'
+# HSLT: its walk figures (Table 3 of the paper) printed and stored, its parameters in INFO.
+"$bin/lt-mutate" "$src/scenes/cornell-spheres/scene.xml" --resolution 16x16 --strategies bidirectional,hslt \
+    --hslt-gamma 0.2 --hslt-stratify 0.05 --mutations 20000 --chains 8 --startup-samples 2000 -o "$tmp/hs.lts" \
+    2> "$tmp/hs-err"; code=$?
+check "bidirectional,hslt: exit 0, walk figures with projection orders and acceptance by length" \
+    '[ $code -eq 0 ] && grep -q "^hslt" "$tmp/hs-err" && grep -q "projected from the eye / light" "$tmp/hs-err" &&
+     grep -q "acceptance by chain length" "$tmp/hs-err"'
+check "bidirectional,hslt: gamma, image step and the walk table stored" \
+    '"$bin/lt-inspect" "$tmp/hs.lts" | grep -q "hslt_gamma" && "$bin/lt-inspect" "$tmp/hs.lts" | grep -q "walks.hslt"'
+out=$("$bin/lt-mutate" "$scene" --time 1 --strategies bidirectional,hslt --hslt-gamma 0 -o "$tmp/x.lts" 2>&1); code=$?
+check "--hslt-gamma 0 refused in one line" '[ $code -ne 0 ] && [ "$(echo "$out" | wc -l)" -eq 1 ] && echo "$out" | grep -q gamma'
+out=$("$bin/lt-mutate" "$scene" --time 1 --space primary --hslt-gamma 0.2 -o "$tmp/x.lts" 2>&1); code=$?
+check "--hslt-gamma outside path space refused" '[ $code -ne 0 ] && echo "$out" | grep -q "space path"'
 "$bin/lt-mutate" "$src/scenes/cornell-spheres/scene.xml" --resolution 16x16 --strategies bidirectional,manifold \
     --mutations 20000 --chains 4 --startup-samples 2000 -o "$tmp/me2.lts" --dump-paths "$tmp/me.ltp" --dump-every 100 -q
 check "MEMLT's dumped states: lt-inspect --manifold rebuilds and walks their chains" \

@@ -32,17 +32,6 @@ bool movableLight(const PathVertex& v) {
     return v.type == VertexType::Light && !v.infinite && v.emitter && v.emitter->shape >= 0 && v.isOnSurface();
 }
 
-RejectCause rejectionOf(WalkFailure f) {
-    switch (f) {
-    case WalkFailure::Occluded:
-        return RejectCause::Occluded;
-    case WalkFailure::NonReversible:
-        return RejectCause::NotReversible;
-    default:
-        return RejectCause::WalkFailed;
-    }
-}
-
 } // namespace
 
 ManifoldPerturbation::ManifoldPerturbation(const Scene& scene, double lambda, double normalChange)
@@ -368,34 +357,25 @@ void ManifoldPerturbation::propose(const MarkovPath& x, Pcg32& rng, Proposal& ou
         const auto chain = manifoldChain(x.v, size_t(s->c), size_t(s->b));
         const auto target = manifoldVertex(out.y.v[size_t(s->b)].si);
         if (!chain || !target) { // a degenerate chart: no chain to walk
-            out.walk = WalkOutcome{WalkFailure::Singular, 0, size_t(std::abs(s->c - s->b)) + 1};
+            out.walk = WalkOutcome{WalkFailure::Singular, 0, size_t(std::abs(s->c - s->b)) + 1, std::nullopt};
             out.failed = RejectCause::WalkFailed;
             return;
         }
         const WalkResult walked = walkManifold(scene_, *chain, *target, WalkEnd::Last, walk_);
-        out.walk = WalkOutcome{walked.failure, walked.iterations, chain->size()};
+        out.walk = WalkOutcome{walked.failure, walked.iterations, chain->size(), std::nullopt};
         if (!walked.converged()) {
-            out.failed = rejectionOf(walked.failure);
+            out.failed = rejectCauseOf(walked.failure);
             return;
         }
         const WalkResult back = reverseWalk(scene_, *chain, walked.chain, WalkEnd::Last, walk_, ReverseWalkTolerance);
         if (!back.converged()) {
             out.walk->failure = back.failure; // counted as the walk's failure (ME Sec. 5.1 step 4)
-            out.failed = rejectionOf(back.failure);
+            out.failed = rejectCauseOf(back.failure);
             return;
         }
         const int toward = s->b > s->c ? 1 : -1;
-        for (size_t j = 1; j + 1 < walked.chain.size(); ++j) {
-            const ManifoldVertex& m = walked.chain[j];
-            PathVertex& v = out.y.v[size_t(s->c + toward * int(j))];
-            const Lobes kind = v.lobe;
-            const bool delta = v.delta;
-            SurfaceInteraction si = scene_.shapes[size_t(m.shape)].surfaceAt(m.prim, m.coords);
-            si.shape = m.shape;
-            setSurfaceVertex(scene_, std::move(si), v);
-            v.lobe = kind;
-            v.delta = delta;
-        }
+        for (size_t j = 1; j + 1 < walked.chain.size(); ++j)
+            moveVertex(scene_, walked.chain[j], out.y.v[size_t(s->c + toward * int(j))]);
     }
     if (!evaluateProposal(scene_, x, out)) return;
     // 4. T both ways from the two states (the reverse with y's concentration and classification

@@ -1,0 +1,194 @@
+#include "mcmc/mutations/half_vector_mutation.h"
+
+#include <algorithm>
+#include <limits>
+
+#include "manifold/chains_in_path.h"
+#include "math/error.h"
+
+namespace lt {
+
+namespace {
+
+// The reverse walk must bring every vertex back within this fraction of the scene diagonal, as the
+// manifold perturbation's (manifold_perturbation.cpp: states re-created from float hits sit off their
+// exact constraint values by rounding that chains through glass amplify).
+constexpr double ReverseWalkTolerance = 1e-4;
+// Roughness below this is taken as this: a kernel of zero width would be a delta, not a density.
+constexpr double MinRoughness = 1e-6;
+// The walk's tolerance is at most this fraction of the narrowest kernel: the densities are evaluated at
+// the walked state's half vectors, which differ from the drawn ones by up to the tolerance.
+constexpr double ToleranceOfKernel = 1e-3;
+
+// Beckmann-equivalent roughness of the lobe a non-specular vertex scatters by: the BSDF's, and 1 for a
+// diffuse lobe (Bsdf::roughness reports infinity for diffuse BSDFs and 0 for a delta coat over a diffuse
+// base) or anything wider (h-perp lives in the unit disk).
+double vertexRoughness(const PathVertex& v) {
+    const double a = v.bsdf ? v.bsdf->roughness(v.si.uv) : 1.0;
+    return a > 0 && a <= 1 ? std::max(a, MinRoughness) : 1.0;
+}
+
+// The principal axes and standard deviations of the columns (a, b): the left singular vectors and
+// singular values of [a b], from the eigen-decomposition of [a b][a b]^T.
+Gaussian2 principalAxes(const Vec2& a, const Vec2& b) {
+    const double sxx = a.x * a.x + b.x * b.x, syy = a.y * a.y + b.y * b.y, sxy = a.x * a.y + b.x * b.y;
+    const double mean = 0.5 * (sxx + syy), r = std::hypot(0.5 * (sxx - syy), sxy);
+    const double l1 = mean + r, l2 = std::max(mean - r, 0.0);
+    Vec2 axis = std::abs(sxy) > 0 ? Vec2(sxy, l1 - sxx) : (sxx >= syy ? Vec2(1, 0) : Vec2(0, 1));
+    if (std::abs(sxy) > 0 && std::abs(l1 - sxx) < std::abs(l1 - syy)) axis = Vec2(l1 - syy, sxy);
+    return {axis / length(axis), std::sqrt(l1), std::sqrt(l2)};
+}
+
+} // namespace
+
+HalfVectorMutation::HalfVectorMutation(const Scene& scene, double gamma, double stratify)
+    : scene_(scene), gamma_(gamma), stratify_(stratify) {
+    if (!(gamma > 0) || !(gamma <= 1))
+        throw Error("the half-vector mutation's gamma must lie in (0, 1], got " + std::to_string(gamma));
+    if (!(stratify >= 0) || !std::isfinite(stratify))
+        throw Error("the half-vector mutation's image step must be a fraction >= 0, got " + std::to_string(stratify));
+}
+
+bool HalfVectorMutation::suitable(const MarkovPath& x) const {
+    if (x.v.size() < 3 || x.v[0].infinite) return false;
+    for (size_t i = 1; i + 1 < x.v.size(); ++i)
+        if (!isSpecular(x.v[i])) return true;
+    return false;
+}
+
+std::optional<HalfVectorMutation::State> HalfVectorMutation::state(const MarkovPath& path) const {
+    auto chain = manifoldChain(path.v, 0, path.v.size() - 1);
+    if (!chain) return std::nullopt;
+    auto J = chainJacobian(*chain);
+    if (!J) return std::nullopt;
+    auto lu = BlockTridiagonalLU::factor(J->A);
+    if (!lu) return std::nullopt;
+    return State{std::move(*chain), std::move(*J), std::move(*lu)};
+}
+
+double HalfVectorMutation::halfVectorFactor(const MarkovPath& path, const State& s) const {
+    const size_t n = s.chain.size();
+    double g = 1;
+    for (size_t j = 1; j + 1 < n; ++j) {
+        if (!isSpecular(path.v[j])) continue;
+        const Mat2& C = j + 2 < n ? s.J.A.C[j - 1] : s.J.last;
+        g *= std::abs(C.det()) / geometryTerm(s.chain[j], s.chain[j + 1]);
+    }
+    g /= std::abs(s.lu.determinant());
+    return g > 0 && std::isfinite(g) ? g : 0.0;
+}
+
+std::vector<Gaussian2> HalfVectorMutation::kernels(const MarkovPath& path, const State& s) const {
+    const size_t interior = s.chain.size() - 2;
+    std::vector<double> alpha(interior, 0.0);
+    double alphaSum = 0;
+    for (size_t i = 0; i < interior; ++i)
+        if (!isSpecular(path.v[i + 1])) alphaSum += alpha[i] = vertexRoughness(path.v[i + 1]);
+
+    // The raster's pixel steps on x_{k-1}'s tangent plane (camera ray differentials, HSLT Sec. 6.2),
+    // scaled to `stratify` of the image, in x_{k-1}'s chart.
+    std::optional<std::array<std::array<double, 2>, 2>> pixel;
+    if (stratify_ > 0) {
+        const ManifoldVertex& last = s.chain[s.chain.size() - 2];
+        const auto& film = scene_.camera.film();
+        const auto onPlane = [&](const Vec2& raster) -> std::optional<Vec3> {
+            const Ray r = scene_.camera.generateRay(raster);
+            const double t = dot(last.p - r.o, last.ng) / dot(r.d, last.ng);
+            if (!std::isfinite(t)) return std::nullopt;
+            return r.o + r.d * t;
+        };
+        const auto p0 = onPlane(path.raster), pu = onPlane(path.raster + Vec2(1, 0)),
+                   pv = onPlane(path.raster + Vec2(0, 1));
+        if (p0 && pu && pv) {
+            const Vec3 du = (*pu - *p0) * (stratify_ * film.cropWidth),
+                       dv = (*pv - *p0) * (stratify_ * film.cropHeight);
+            pixel = {{{dot(du, last.dpdu), dot(du, last.dpdv)}, {dot(dv, last.dpdu), dot(dv, last.dpdv)}}};
+        }
+    }
+
+    std::vector<Gaussian2> K(interior);
+    for (size_t i = 0; i < interior; ++i) {
+        if (!(alpha[i] > 0)) continue;
+        const double sigmaBsdf = gamma_ * alpha[i] / std::sqrt(2.0);
+        K[i] = {{1, 0}, sigmaBsdf, sigmaBsdf};
+        if (!pixel) continue;
+        // D_i = dx_{k-1} / dh_i (HSLT Eq. 9): block k-1 of J^{-1}'s block column i.
+        const auto Dinv = s.lu.inverseColumn(i).back().inverse();
+        if (!Dinv) continue;
+        const double w = alpha[i] / alphaSum;
+        const auto hu = *Dinv * (*pixel)[0], hv = *Dinv * (*pixel)[1];
+        Gaussian2 image = principalAxes(Vec2(hu[0], hu[1]) * w, Vec2(hv[0], hv[1]) * w);
+        if (!std::isfinite(image.sigma1) || !std::isfinite(image.sigma2) || !isFinite(image.axis)) continue;
+        // The smaller step per axis, never below a thousandth of the BSDF's (a degenerate footprint would
+        // make the kernel a delta).
+        image.sigma1 = std::clamp(image.sigma1, 1e-3 * sigmaBsdf, sigmaBsdf);
+        image.sigma2 = std::clamp(image.sigma2, 1e-3 * sigmaBsdf, sigmaBsdf);
+        K[i] = image;
+    }
+    return K;
+}
+
+double HalfVectorMutation::transitionDensity(const MarkovPath& from, const MarkovPath& to) const {
+    const auto a = state(from), b = state(to);
+    if (!a || !b) return 0;
+    const double g = halfVectorFactor(to, *b);
+    if (!(g > 0)) return 0;
+    const auto K = kernels(from, *a);
+    double T = 1;
+    for (size_t i = 0; i < K.size(); ++i)
+        if (!isSpecular(from.v[i + 1])) T *= K[i].density(a->J.values[i], b->J.values[i]);
+    const double t = T / g;
+    return std::isfinite(t) ? t : 0.0;
+}
+
+void HalfVectorMutation::propose(const MarkovPath& x, Pcg32& rng, Proposal& out) const {
+    out.y = x;
+    const auto sx = state(x);
+    if (!sx) {
+        out.walk = WalkOutcome{WalkFailure::Singular, 0, x.v.size(), std::nullopt};
+        out.failed = RejectCause::WalkFailed;
+        return;
+    }
+    // 1. New half vectors: drawn at the non-specular vertices, exactly 0 at the specular ones.
+    const auto K = kernels(x, *sx);
+    std::vector<Vec2> target(K.size()), back(sx->J.values);
+    double narrowest = std::numeric_limits<double>::infinity();
+    for (size_t i = 0; i < K.size(); ++i) {
+        if (isSpecular(x.v[i + 1])) {
+            back[i] = {};
+            continue;
+        }
+        target[i] = K[i].sample(sx->J.values[i], rng);
+        narrowest = std::min({narrowest, K[i].sigma1, K[i].sigma2});
+    }
+    HalfVectorWalkSettings settings = walk_;
+    settings.tolerance = std::min(walk_.tolerance, ToleranceOfKernel * narrowest);
+
+    // 2. The vertices with those half vectors, and 3. the walk back (HSLT Fig. 12).
+    const ProjectionOrder order = projectionOrder(sx->J);
+    const WalkResult walked = walkHalfVectors(scene_, sx->chain, target, order, settings);
+    out.walk = WalkOutcome{walked.failure, walked.iterations, sx->chain.size(), order == ProjectionOrder::FromEye};
+    if (!walked.converged()) {
+        out.failed = rejectCauseOf(walked.failure);
+        return;
+    }
+    const WalkResult rev = reverseHalfVectorWalk(scene_, sx->chain, walked.chain, back, settings, ReverseWalkTolerance);
+    if (!rev.converged()) {
+        out.walk->failure = rev.failure;
+        out.failed = rejectCauseOf(rev.failure);
+        return;
+    }
+    for (size_t j = 1; j + 1 < walked.chain.size(); ++j)
+        moveVertex(scene_, walked.chain[j], out.y.v[j]);
+    // 4. Visibility and f~ of the proposal; 5. T both ways from the two states.
+    if (!evaluateProposal(scene_, x, out)) return;
+    const double forward = transitionDensity(x, out.y);
+    if (!(forward > 0)) {
+        out.walk->failure = WalkFailure::Singular;
+        out.failed = RejectCause::WalkFailed;
+        return;
+    }
+    setTransitionDensities(out, x, forward, forward, transitionDensity(out.y, x));
+}
+
+} // namespace lt

@@ -1,0 +1,80 @@
+// The half-vector space mutation of HSLT (Kaplanyan, Hanika & Dachsbacher 2014, "The natural-constraint
+// representation of the path space for efficient light transport simulation"): within the subspace of
+// paths through the same surfaces in the same configuration, a path x_0 .. x_k is (x_0, h_1, .., h_{k-1},
+// x_k), h_i the projected generalized half vector c_i = T(x_i)^T h_i of manifold/specular_constraint.h
+// (HSLT Eq. 11). The mutation keeps both endpoints (the light point and the camera), draws a new h_i at
+// every interior vertex that is not specular (specular ones keep h = 0 exactly, Sec. 4.4), finds the
+// vertices with those half vectors (manifold/half_vector_walk.h: all vertices predicted at once by J^{-1}
+// and projected by ray casting, the projection order by the heuristic of Sec. 5.1), checks that the walk
+// back reaches the state (Sec. 5.2), and accepts with the densities of both states. Always mixed with
+// the bidirectional mutation, which changes lengths and configurations (Sec. 5.1). Not built: the jumps
+// between subspaces of Sec. 5.2 (Fig. 8-9); walks that fail are rejected.
+//
+// Target in half-vector space (HSLT Eq. 4-5). With J = dH/dX the block-tridiagonal constraint Jacobian over
+// the interior vertices (chart coordinates, orthonormal: area measure), f_H = f |det J|^{-1}. lt's f~ strips
+// each specular vertex's Dirac delta in projected solid angle, light to eye (markov_path.h): at specular
+// x_j the delta is delta(h_j) |dh_j / dw_o| / |cos_j| = delta(h_j) |det C_j| / G(x_j, x_{j+1}), C_j =
+// dc_j / dx_{j+1} in x_{j+1}'s chart (the camera's chart faces the edge, matching G without a camera
+// cosine). Integrating the deltas out (h_j = 0) leaves the density over the non-specular half vectors
+//   f_H = f~ g,  g = prod_{j specular} |det C_j| / G(x_j, x_{j+1}) / |det J|,
+// which is HSLT Eq. 5's "a specular vertex contributes just its kappa" in lt's measure (the closed form
+// rho G(x_0, x_1) |T_1| prod(...) of Eq. 5 is checked against f~ / |det J| in the tests). The chain's
+// target stays lum(f~) (every mutation of a mix shares it); HSLT's proposal enters through T~(x -> y) =
+// T_H(x -> y) / g(y), the kernel density turned into lt's measure at y, so f~(y) T~(y -> x) / (f~(x)
+// T~(x -> y)) = f_H(y) T_H(y -> x) / (f_H(x) T_H(x -> y)) (Sec. 5.1: the acceptance is exact).
+//
+// Kernel (HSLT Sec. 6-7), per non-specular interior vertex, from the state alone (the reverse kernel from
+// the proposal's): an anisotropic Gaussian in the vertex's h-perp coordinates (math/gaussian2.h), centred
+// at the current c_i. Standard deviations, per principal axis a:
+//   sigma_a = min(sigma_bsdf, w_i v_a), sigma_bsdf = gamma alpha_i / sqrt 2,
+// alpha_i the Beckmann-equivalent roughness (Bsdf::roughness; 1 for diffuse lobes, and at most 1: h-perp
+// lives in the unit disk), alpha / sqrt 2 the Beckmann lobe's own standard deviation per axis (Sec. 6.1),
+// gamma 0.1 (the paper's value for all its images); v_a and the axes the singular values and left singular
+// vectors of [dh_u dh_v], dh = D_i^{-1} dx, dx_u and dx_v the raster's u and v pixel steps on x_{k-1}'s
+// tangent plane (camera ray differentials, no tracing) scaled by `stratify` (2 %) of the image width and
+// height, D_i = dx_{k-1} / dh_i the block of J^{-1} (Eq. 9); w_i = alpha_i / sum_j alpha_j (Sec. 6.3). The
+// paper samples an anisotropic Phong lobe moved by a Moebius transform (Sec. 7) whose exponents come from
+// supplementary material we do not have; the Gaussian is the variant of the HSLT follow-up code, in h-perp
+// (the constraint the manifold machinery solves) rather than slope coordinates: proposals outside the unit
+// disk have no microfacet normal and fail the walk, which keeps the kernel a proper density. stratify 0
+// turns the image-plane limit off.
+#pragma once
+
+#include "manifold/half_vector_walk.h"
+#include "math/gaussian2.h"
+#include "mcmc/mutation.h"
+
+namespace lt {
+
+class HalfVectorMutation final : public Mutation {
+public:
+    // gamma in (0, 1] (HSLT Sec. 6.1); stratify >= 0, the image-plane step as a fraction of the image.
+    HalfVectorMutation(const Scene& scene, double gamma = 0.1, double stratify = 0.02);
+
+    [[nodiscard]] std::string name() const override { return "hslt"; }
+    // At least one non-specular interior vertex, and no vertex at infinity (lt's chains hold none yet).
+    [[nodiscard]] bool suitable(const MarkovPath& x) const override;
+    void propose(const MarkovPath& x, Pcg32& rng, Proposal& out) const override;
+
+    // A state in the manifold's charts: the whole path as one chain (its interior vertices set up for
+    // their scattering, specular ones at offset 0), its Jacobian and factorization.
+    struct State {
+        ManifoldChain chain;
+        ChainJacobian J;
+        BlockTridiagonalLU lu;
+    };
+    [[nodiscard]] std::optional<State> state(const MarkovPath& path) const;
+    // g = f_H / f~ (header comment); 0 where a determinant vanishes or is not finite.
+    [[nodiscard]] double halfVectorFactor(const MarkovPath& path, const State& s) const;
+    // The kernel of each interior vertex at a state (entries of specular vertices unused).
+    [[nodiscard]] std::vector<Gaussian2> kernels(const MarkovPath& path, const State& s) const;
+    // T~(from -> to) of the header comment; 0 when either state has no chart or factor.
+    [[nodiscard]] double transitionDensity(const MarkovPath& from, const MarkovPath& to) const;
+
+private:
+    const Scene& scene_;
+    double gamma_, stratify_;
+    HalfVectorWalkSettings walk_;
+};
+
+} // namespace lt

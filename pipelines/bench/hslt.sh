@@ -1,0 +1,47 @@
+#!/usr/bin/env bash
+# Equal-time comparison for the half-vector space mutation (report the numbers in the issue note; nothing
+# here is asserted): BDPT, PSSMLT, path-space MLT with Veach's perturbations (mlt: --strategies auto),
+# MEMLT (bidirectional + manifold) and HSLT (bidirectional + hslt), SECONDS each, on veach-mis and
+# veach-bidir (whole frame against the scene's reference) and on glossy-rings (against a long BDPT
+# reference made here first when OUT has none: REF_TIME seconds, default 900). Then on glossy-rings, SWEEP
+# seconds each (default 30): HSLT's gamma (0.03, 0.1, 0.3, 1) and its image-plane stratification off
+# (--hslt-stratify 0) against on (0.02). SCENES="glossy-rings" runs only those.
+#   [REF_TIME=S] [SWEEP=S] pipelines/bench/hslt.sh [SECONDS] [OUT]   (default 60 s, bench-hslt)
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+seconds="${1:-60}"
+out="${2:-bench-hslt}"
+bin="${BUILD_DIR:-$root/build}/bin"
+[ -x "$bin/lt-mutate" ] || { echo "build first: cmake -S $root -B $root/build && cmake --build $root/build" >&2; exit 1; }
+mkdir -p "$out"
+methods="bdpt pssmlt mlt memlt hslt"
+
+reference() {
+  local scene="$1" ref="$root/scenes/$1/reference.exr"
+  if [ ! -f "$ref" ]; then
+    ref="$out/$scene-reference.exr"
+    [ -f "$ref" ] || bash "$root/pipelines/reference.sh" "$root/scenes/$scene/scene.xml" --time "${REF_TIME:-900}" \
+      -o "$ref" > /dev/null
+  fi
+  echo "$ref"
+}
+
+for scene in ${SCENES:-veach-mis glossy-rings veach-bidir}; do
+  ref="$(reference "$scene")"
+  bash "$root/pipelines/compare.sh" "$root/scenes/$scene/scene.xml" --time "$seconds" --methods "$methods" \
+    --ref "$ref" --out "$out/$scene"
+  echo "== $scene, hslt"
+  "$bin/lt-inspect" "$out/$scene/hslt.lts" | sed -n '/walks.hslt/,/^$/p' | head -20
+done
+
+# gamma and stratification on glossy-rings: relMSE after the same time.
+sweep="$out/sweep"
+mkdir -p "$sweep"
+ref="$(reference glossy-rings)"
+for g in 0.03 0.1 0.3 1; do
+  "$bin/lt-mutate" "$root/scenes/glossy-rings/scene.xml" --strategies bidirectional,hslt --hslt-gamma "$g" \
+    --time "${SWEEP:-30}" -o "$sweep/gamma$g.lts" -q
+done
+"$bin/lt-mutate" "$root/scenes/glossy-rings/scene.xml" --strategies bidirectional,hslt --hslt-stratify 0 \
+  --time "${SWEEP:-30}" -o "$sweep/stratify0.lts" -q
+"$bin/lt-error" "$sweep"/gamma{0.03,0.1,0.3,1}.lts "$sweep/stratify0.lts" --ref "$ref" | grep -v SNAP | tee "$sweep/error.txt"

@@ -9,15 +9,18 @@
 //   projected into the shading plane (unit only where n is perpendicular to a and b). The generators are
 //   the two world axes other than the dominant axis of the geometric normal: a function of the point
 //   alone, constant over each triangle (its geometric normal is) and over each of the six cube-map
-//   regions of a sphere, and never degenerate (|s x t| = |n.e| >= 1/sqrt 3 where n is the geometric
-//   normal, e the dominant axis). Within a region the field's derivative is exactly the rotation of the
-//   shading normal, the frame-rotation part of the B block. On the specular manifold (c = 0) that part
-//   does not depend on the choice of field; off it (offset vertices, HSLT's h-perp) it does, so every
-//   user of the constraint (Jacobian, tangent maps, Newton solve, proposals, densities) must use this
+//   regions of a sphere. |s x t| = |n.e| (e the dominant axis of the geometric normal, n the shading
+//   normal) is at least 1/sqrt 3 where n is the geometric normal; a shading normal tilted far from it
+//   (35 degrees and more) can make the frame singular there, and walks through such a vertex fail. Within a region the
+//   field's derivative is exactly the rotation of the shading normal, the frame-rotation part of the B block. On the
+//   specular manifold (c = 0) that part does not depend on the choice of field; off it (offset vertices, HSLT's h-perp)
+//   it does, so every user of the constraint (Jacobian, tangent maps, Newton solve, proposals, densities) must use this
 //   one field: mixing two fields biases a chain without any visible error. The chart tangents are not
 //   generators for that reason: on a sphere or disk dp/du turns within the tangent plane as the point
-//   moves, a rotation B would not contain. Where a walk crosses from one region into another the
-//   coordinates jump; it lands on another solution, which its reverse check rejects.
+//   moves, a rotation B would not contain. Where a walk crosses from one region into another (or one
+//   triangle into another with a different dominant axis) the coordinates jump: the walk may fail, or
+//   converge to the point whose coordinates in its own region are the target, which is what the
+//   densities at that state (its own frame, its own J) describe.
 // * Constraint. c = T^T h = (s.h, t.h) with h the generalized half vector (bsdf/half_vector.h),
 //   oriented to the side of n; specular_constraint.h.
 #pragma once

@@ -1,7 +1,6 @@
 #include "mcmc/mutations/half_vector_mutation.h"
 
 #include <algorithm>
-#include <limits>
 
 #include "manifold/chains_in_path.h"
 #include "math/error.h"
@@ -16,13 +15,18 @@ namespace {
 constexpr double ReverseWalkTolerance = 1e-4;
 // Roughness below this is taken as this: a kernel of zero width would be a delta, not a density.
 constexpr double MinRoughness = 1e-6;
-// The walk's tolerance is at most this fraction of the narrowest kernel: the densities are evaluated at
-// the walked state's half vectors, which differ from the drawn ones by up to the tolerance.
-constexpr double ToleranceOfKernel = 1e-3;
+// The walk's tolerance is this fraction of gamma alpha / sqrt 2 at the smoothest non-specular vertex (at
+// most 1e-7): 1e-3 of the narrowest kernel the state can have (kernels() floors the image-plane limit at
+// 1e-3 of it), since the densities are evaluated at the walked state's half vectors, which differ from
+// the drawn ones by up to the tolerance. It depends on the materials at the vertices only, not on the
+// state's footprint, so that a proposal and its reverse walk with the same tolerance from either state
+// (otherwise x -> y could converge where y -> x stops short).
+constexpr double ToleranceOfBsdfStep = 1e-6;
 
-// Beckmann-equivalent roughness of the lobe a non-specular vertex scatters by: the BSDF's, and 1 for a
-// diffuse lobe (Bsdf::roughness reports infinity for diffuse BSDFs and 0 for a delta coat over a diffuse
-// base) or anything wider (h-perp lives in the unit disk).
+// Beckmann-equivalent roughness of a non-specular vertex: the BSDF's, and 1 for diffuse BSDFs (Bsdf::roughness
+// reports infinity for them and 0 for a delta coat over a diffuse base) or anything wider (h-perp has at
+// most unit length). A rough coat over a diffuse base reports the coat's alpha, whichever lobe the
+// vertex scattered by: its diffuse vertices take the coat's narrower steps.
 double vertexRoughness(const PathVertex& v) {
     const double a = v.bsdf ? v.bsdf->roughness(v.si.uv) : 1.0;
     return a > 0 && a <= 1 ? std::max(a, MinRoughness) : 1.0;
@@ -141,7 +145,15 @@ double HalfVectorMutation::transitionDensity(const MarkovPath& from, const Marko
     return std::isfinite(t) ? t : 0.0;
 }
 
+double HalfVectorMutation::walkTolerance(const MarkovPath& path) const {
+    double alpha = 1;
+    for (size_t i = 1; i + 1 < path.v.size(); ++i)
+        if (!isSpecular(path.v[i])) alpha = std::min(alpha, vertexRoughness(path.v[i]));
+    return std::min(walk_.tolerance, ToleranceOfBsdfStep * gamma_ * alpha / std::sqrt(2.0));
+}
+
 void HalfVectorMutation::propose(const MarkovPath& x, Pcg32& rng, Proposal& out) const {
+    out = Proposal{};
     out.y = x;
     const auto sx = state(x);
     if (!sx) {
@@ -152,17 +164,17 @@ void HalfVectorMutation::propose(const MarkovPath& x, Pcg32& rng, Proposal& out)
     // 1. New half vectors: drawn at the non-specular vertices, exactly 0 at the specular ones.
     const auto K = kernels(x, *sx);
     std::vector<Vec2> target(K.size()), back(sx->J.values);
-    double narrowest = std::numeric_limits<double>::infinity();
+    double sampled = 1; // the kernel density of the drawn half vectors
     for (size_t i = 0; i < K.size(); ++i) {
         if (isSpecular(x.v[i + 1])) {
             back[i] = {};
             continue;
         }
         target[i] = K[i].sample(sx->J.values[i], rng);
-        narrowest = std::min({narrowest, K[i].sigma1, K[i].sigma2});
+        sampled *= K[i].density(sx->J.values[i], target[i]);
     }
     HalfVectorWalkSettings settings = walk_;
-    settings.tolerance = std::min(walk_.tolerance, ToleranceOfKernel * narrowest);
+    settings.tolerance = walkTolerance(x);
 
     // 2. The vertices with those half vectors, and 3. the walk back (HSLT Fig. 12).
     const ProjectionOrder order = projectionOrder(sx->J);
@@ -183,12 +195,15 @@ void HalfVectorMutation::propose(const MarkovPath& x, Pcg32& rng, Proposal& out)
     // 4. Visibility and f~ of the proposal; 5. T both ways from the two states.
     if (!evaluateProposal(scene_, x, out)) return;
     const double forward = transitionDensity(x, out.y);
-    if (!(forward > 0)) {
+    const auto sy = state(out.y);
+    const double gy = sy ? halfVectorFactor(out.y, *sy) : 0.0;
+    if (!(forward > 0) || !(gy > 0)) {
+        // J or a C block singular at y, a grazing G, or a kernel density that underflowed: no density.
         out.walk->failure = WalkFailure::Singular;
         out.failed = RejectCause::WalkFailed;
         return;
     }
-    setTransitionDensities(out, x, forward, forward, transitionDensity(out.y, x));
+    setTransitionDensities(out, x, sampled / gy, forward, transitionDensity(out.y, x));
 }
 
 } // namespace lt

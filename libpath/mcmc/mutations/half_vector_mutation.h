@@ -26,18 +26,17 @@
 // Kernel (HSLT Sec. 6-7), per non-specular interior vertex, from the state alone (the reverse kernel from
 // the proposal's): an anisotropic Gaussian in the vertex's h-perp coordinates (math/gaussian2.h), centred
 // at the current c_i. Standard deviations, per principal axis a:
-//   sigma_a = min(sigma_bsdf, w_i v_a), sigma_bsdf = gamma alpha_i / sqrt 2,
-// alpha_i the Beckmann-equivalent roughness (Bsdf::roughness; 1 for diffuse lobes, and at most 1: h-perp
-// lives in the unit disk), alpha / sqrt 2 the Beckmann lobe's own standard deviation per axis (Sec. 6.1),
-// gamma 0.1 (the paper's value for all its images); v_a and the axes the singular values and left singular
-// vectors of [dh_u dh_v], dh = D_i^{-1} dx, dx_u and dx_v the raster's u and v pixel steps on x_{k-1}'s
-// tangent plane (camera ray differentials, no tracing) scaled by `stratify` (2 %) of the image width and
-// height, D_i = dx_{k-1} / dh_i the block of J^{-1} (Eq. 9); w_i = alpha_i / sum_j alpha_j (Sec. 6.3). The
-// paper samples an anisotropic Phong lobe moved by a Moebius transform (Sec. 7) whose exponents come from
+//   sigma_a = min(sigma_bsdf, w_i v_a), sigma_bsdf = gamma alpha_i / sqrt 2 (and at least 1e-3 sigma_bsdf),
+// alpha_i the Beckmann-equivalent roughness (Bsdf::roughness; 1 for diffuse BSDFs, and at most 1), alpha / sqrt 2 the
+// Beckmann lobe's own standard deviation per axis (Sec. 6.1), gamma 0.1 (the paper's value for all its images); v_a and
+// the axes the singular values and left singular vectors of [dh_u dh_v], dh = D_i^{-1} dx, dx_u and dx_v the raster's u
+// and v pixel steps on x_{k-1}'s tangent plane (camera ray differentials, no tracing) scaled by `stratify` (2 %) of the
+// image width and height, D_i = dx_{k-1} / dh_i the block of J^{-1} (Eq. 9); w_i = alpha_i / sum_j alpha_j (Sec. 6.3).
+// The paper samples an anisotropic Phong lobe moved by a Moebius transform (Sec. 7) whose exponents come from
 // supplementary material we do not have; the Gaussian is the variant of the HSLT follow-up code, in h-perp
-// (the constraint the manifold machinery solves) rather than slope coordinates: proposals outside the unit
-// disk have no microfacet normal and fail the walk, which keeps the kernel a proper density. stratify 0
-// turns the image-plane limit off.
+// (the constraint the manifold machinery solves) rather than slope coordinates: its support is the whole
+// plane, and proposals that no microfacet normal has (outside the disk the frame maps unit vectors to)
+// fail the walk and are rejected. stratify 0 turns the image-plane limit off.
 #pragma once
 
 #include "manifold/half_vector_walk.h"
@@ -70,6 +69,8 @@ public:
     [[nodiscard]] std::vector<Gaussian2> kernels(const MarkovPath& path, const State& s) const;
     // T~(from -> to) of the header comment; 0 when either state has no chart or factor.
     [[nodiscard]] double transitionDensity(const MarkovPath& from, const MarkovPath& to) const;
+    // The walks' tolerance on |c - c*| for a state: from its materials alone (half_vector_mutation.cpp).
+    [[nodiscard]] double walkTolerance(const MarkovPath& path) const;
 
 private:
     const Scene& scene_;

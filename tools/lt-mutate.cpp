@@ -123,7 +123,10 @@ int main(int argc, char** argv) {
         if (space != "path" && app.count("--lambda")) throw lt::Error("--lambda is for --space path");
         if (space != "path" && (app.count("--hslt-gamma") || app.count("--hslt-stratify")))
             throw lt::Error("--hslt-gamma and --hslt-stratify are for --space path");
+        // CLI11's range checks let NaN through; refuse it before the seeding, as --lambda.
         if (!(hsltGamma > 0)) throw lt::Error("--hslt-gamma must lie in (0, 1], got " + std::to_string(hsltGamma));
+        if (!(hsltStratify >= 0))
+            throw lt::Error("--hslt-stratify must lie in [0, 1], got " + std::to_string(hsltStratify));
         // CLI11's range check lets NaN through; refuse it before the seeding, not after.
         if (!std::isfinite(lambda))
             throw lt::Error("--lambda must be a positive number, got " + std::to_string(lambda));

@@ -97,6 +97,9 @@ check "bidirectional,hslt: gamma, image step and the walk table stored" \
     '"$bin/lt-inspect" "$tmp/hs.lts" | grep -q "hslt_gamma" && "$bin/lt-inspect" "$tmp/hs.lts" | grep -q "walks.hslt"'
 out=$("$bin/lt-mutate" "$scene" --time 1 --strategies bidirectional,hslt --hslt-gamma 0 -o "$tmp/x.lts" 2>&1); code=$?
 check "--hslt-gamma 0 refused in one line" '[ $code -ne 0 ] && [ "$(echo "$out" | wc -l)" -eq 1 ] && echo "$out" | grep -q gamma'
+out=$("$bin/lt-mutate" "$scene" --time 1 --strategies bidirectional,hslt --hslt-stratify nan -o "$tmp/x.lts" 2>&1); code=$?
+check "--hslt-stratify nan refused before any work, in one line, no output" \
+    '[ $code -ne 0 ] && [ "$(echo "$out" | wc -l)" -eq 1 ] && echo "$out" | grep -q "hslt-stratify" && [ ! -e "$tmp/x.lts" ]'
 out=$("$bin/lt-mutate" "$scene" --time 1 --space primary --hslt-gamma 0.2 -o "$tmp/x.lts" 2>&1); code=$?
 check "--hslt-gamma outside path space refused" '[ $code -ne 0 ] && echo "$out" | grep -q "space path"'
 "$bin/lt-mutate" "$src/scenes/cornell-spheres/scene.xml" --resolution 16x16 --strategies bidirectional,manifold \

@@ -46,6 +46,7 @@ int main(int argc, char** argv) {
     int chains = 256, threads = 0, maxDepth = -2, unbounded = 12, round = 64;
     size_t dumpEvery = 0;
     bool quiet = false;
+    std::string hsltJumps = "on";
     std::vector<std::string> defines;
     app.add_option("SCENE", scenePath, "Mitsuba 0.5/0.6 scene (.xml)")->required();
     app.add_option("SEEDS", seedsPath,
@@ -69,6 +70,10 @@ int main(int argc, char** argv) {
                    "half-vector mutation: the image-plane step limiting it, a fraction of the image (default 0.02, "
                    "HSLT's; 0 turns the limit off)")
         ->check(CLI::Range(0.0, 1.0));
+    app.add_option("--hslt-jumps", hsltJumps,
+                   "half-vector mutation: where a walk fails, propose its first prediction projected onto whatever "
+                   "it hits (HSLT's jumps between subspaces; on by default, off for comparisons)")
+        ->check(CLI::IsMember({"on", "off"}));
     app.add_option("--mutations", mutations, "total mutations over all chains")->check(CLI::PositiveNumber);
     app.add_option("--mutations-per-pixel", mutationsPerPixel, "total mutations as a multiple of the pixel count")
         ->check(CLI::PositiveNumber);
@@ -121,8 +126,8 @@ int main(int argc, char** argv) {
             throw lt::Error("--strategies selects path-space mutations; --space " + space +
                             " has its own (large and small steps, --large-step)");
         if (space != "path" && app.count("--lambda")) throw lt::Error("--lambda is for --space path");
-        if (space != "path" && (app.count("--hslt-gamma") || app.count("--hslt-stratify")))
-            throw lt::Error("--hslt-gamma and --hslt-stratify are for --space path");
+        if (space != "path" && (app.count("--hslt-gamma") || app.count("--hslt-stratify") || app.count("--hslt-jumps")))
+            throw lt::Error("--hslt-gamma, --hslt-stratify and --hslt-jumps are for --space path");
         // CLI11's range checks let NaN through; refuse it before the seeding, as --lambda.
         if (!(hsltGamma > 0)) throw lt::Error("--hslt-gamma must lie in (0, 1], got " + std::to_string(hsltGamma));
         if (!(hsltStratify >= 0))
@@ -222,6 +227,7 @@ int main(int argc, char** argv) {
                             [](const auto& e) { return e.name == "hslt"; })) {
                 params["hslt_gamma"] = hsltGamma;
                 params["hslt_stratify"] = hsltStratify;
+                params["hslt_jumps"] = hsltJumps == "on";
             }
             for (const auto& why : choice.leftOut)
                 if (!quiet) std::cerr << "lt-mutate: left out: " << why << '\n';
@@ -265,6 +271,7 @@ int main(int argc, char** argv) {
             lt::MutationSettings settings{maxEdges, lambda};
             settings.hsltGamma = hsltGamma;
             settings.hsltStratify = hsltStratify;
+            settings.hsltJumps = hsltJumps == "on";
             if (usesManifold && features.glossySurfaces) {
                 // ME App. A1: Delta-theta, which sets how often a glossy vertex is treated as specular, is
                 // measured before the chains start and then held (an adaptive chain would not be Markov).

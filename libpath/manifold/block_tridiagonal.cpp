@@ -40,6 +40,21 @@ std::optional<Mat2> Mat2::inverse(double relTol) const {
     return Mat2{{{{m[1][1] * inv, -m[0][1] * inv}, {-m[1][0] * inv, m[0][0] * inv}}}};
 }
 
+std::vector<std::array<double, 2>> BlockTridiagonal::operator*(const std::vector<std::array<double, 2>>& x) const {
+    const size_t n = size();
+    std::vector<std::array<double, 2>> r(n);
+    const auto add = [](std::array<double, 2>& to, const std::array<double, 2>& v) {
+        to[0] += v[0];
+        to[1] += v[1];
+    };
+    for (size_t i = 0; i < n; ++i) {
+        r[i] = B[i] * x[i];
+        if (i > 0) add(r[i], A[i] * x[i - 1]);
+        if (i + 1 < n) add(r[i], C[i] * x[i + 1]);
+    }
+    return r;
+}
+
 std::optional<BlockTridiagonalLU> BlockTridiagonalLU::factor(const BlockTridiagonal& J) {
     const size_t n = J.size();
     if (n == 0 || J.A.size() != n || J.C.size() != n) return std::nullopt;

@@ -29,6 +29,8 @@ struct Mat2 {
 struct BlockTridiagonal {
     std::vector<Mat2> A, B, C;
     [[nodiscard]] size_t size() const { return B.size(); }
+    // J x, with x as n 2-vectors (HSLT's jump: the constraint values a predicted step reaches to first order).
+    [[nodiscard]] std::vector<std::array<double, 2>> operator*(const std::vector<std::array<double, 2>>& x) const;
 };
 
 // The block LU factorization L_i = B_i - A_i U_{i-1}, U_i = L_i^{-1} C_i, kept for several solves.

@@ -17,16 +17,28 @@ double largestError(const std::vector<Vec2>& values, std::span<const Vec2> targe
 // The side of v's geometric normal that the point p lies on.
 double side(const ManifoldVertex& v, const Vec3& p) { return dot(p - v.p, v.ng); }
 
+// The vertex that projection step `step` (1 .. n-2) places in `order`, and the neighbour its ray starts from.
+std::pair<size_t, size_t> projectionStep(size_t n, size_t step, ProjectionOrder order) {
+    const bool fromLight = order == ProjectionOrder::FromLight;
+    const size_t j = fromLight ? step : n - 1 - step;
+    return {j, fromLight ? j - 1 : j + 1};
+}
+
+// G(y, x) / G(y, x'), x and x' on one ray from y (the cosine at y cancels): the area density at x per area
+// density at x' (HSLT Sec. 5.2), x' on the plane with normal `planeNormal`.
+double projectionFactor(const ManifoldVertex& y, const ManifoldVertex& x, const Vec3& predicted,
+                        const Vec3& planeNormal) {
+    return geometryTerm(y, x) / geometryTerm(y, planeVertex(predicted, planeNormal));
+}
+
 // The predicted points projected onto the scene in `order`; the endpoints are kept.
 std::variant<ManifoldChain, WalkFailure> project(const Scene& scene, std::span<const ManifoldVertex> X,
                                                  const std::vector<Vec3>& predicted, std::span<const Vec2> targets,
                                                  ProjectionOrder order) {
     ManifoldChain Y(X.begin(), X.end());
     const size_t n = X.size();
-    const bool fromLight = order == ProjectionOrder::FromLight;
     for (size_t step = 1; step + 1 < n; ++step) {
-        const size_t j = fromLight ? step : n - 1 - step;
-        const size_t from = fromLight ? j - 1 : j + 1;
+        const auto [j, from] = projectionStep(n, step, order);
         Vec3 dir = predicted[j] - Y[from].p;
         const double len = length(dir);
         if (!(len > 0)) return WalkFailure::Collapsed;
@@ -124,6 +136,56 @@ WalkResult reverseHalfVectorWalk(const Scene& scene, std::span<const ManifoldVer
     if (!sameChain(r.chain, original, relativeTolerance * scene.bounds.diagonal()))
         r.failure = WalkFailure::NonReversible;
     return r;
+}
+
+std::optional<SubspaceJump> jumpSubspace(const Scene& scene, std::span<const ManifoldVertex> chain,
+                                         const ChainJacobian& J, const BlockTridiagonalLU& lu,
+                                         std::span<const Vec2> targets, ProjectionOrder order) {
+    const size_t n = chain.size();
+    std::vector<std::array<double, 2>> rhs(targets.size());
+    for (size_t i = 0; i < targets.size(); ++i)
+        rhs[i] = {targets[i].x - J.values[i].x, targets[i].y - J.values[i].y};
+    const auto dX = lu.solve(rhs);
+    SubspaceJump jump{std::vector<SurfaceInteraction>(n - 2), 1.0};
+    ManifoldChain Y(chain.begin(), chain.end());
+    for (size_t step = 1; step + 1 < n; ++step) {
+        const auto [j, from] = projectionStep(n, step, order);
+        const Vec3 predicted = chain[j].p + chain[j].dpdu * dX[j - 1][0] + chain[j].dpdv * dX[j - 1][1];
+        const Vec3 d = predicted - Y[from].p;
+        const double len = length(d);
+        if (!(len > 0) || !std::isfinite(len)) return std::nullopt;
+        const auto si = traceSurface(scene, Y[from], d / len);
+        if (!si) return std::nullopt;
+        const auto v = manifoldVertex(*si);
+        if (!v) return std::nullopt;
+        jump.projection *= projectionFactor(Y[from], *v, predicted, chain[j].ng);
+        Y[j] = *v;
+        jump.interior[j - 1] = *si;
+    }
+    if (!(jump.projection > 0) || !std::isfinite(jump.projection)) return std::nullopt;
+    return jump;
+}
+
+std::optional<JumpPreimage> jumpPreimage(std::span<const ManifoldVertex> from, const ChainJacobian& J,
+                                         std::span<const ManifoldVertex> to, ProjectionOrder order) {
+    const size_t n = from.size();
+    if (to.size() != n) return std::nullopt;
+    JumpPreimage pre{std::vector<Vec2>(n - 2), 1.0};
+    std::vector<std::array<double, 2>> dX(n - 2);
+    for (size_t step = 1; step + 1 < n; ++step) {
+        const auto [j, prev] = projectionStep(n, step, order);
+        const Vec3 d = normalize(to[j].p - to[prev].p);
+        const double t = dot(from[j].p - to[prev].p, from[j].ng) / dot(d, from[j].ng);
+        if (!(t > 0) || !std::isfinite(t)) return std::nullopt;
+        const Vec3 predicted = to[prev].p + d * t;
+        dX[j - 1] = {dot(predicted - from[j].p, from[j].dpdu), dot(predicted - from[j].p, from[j].dpdv)};
+        pre.projection *= projectionFactor(to[prev], to[j], predicted, from[j].ng);
+    }
+    const auto dH = J.A * dX;
+    for (size_t i = 0; i + 2 < n; ++i)
+        pre.targets[i] = J.values[i] + Vec2(dH[i][0], dH[i][1]);
+    if (!(pre.projection > 0) || !std::isfinite(pre.projection)) return std::nullopt;
+    return pre;
 }
 
 } // namespace lt

@@ -47,4 +47,32 @@ struct HalfVectorWalkSettings {
                                                std::span<const ManifoldVertex> walked, std::span<const Vec2> targets,
                                                const HalfVectorWalkSettings& settings, double relativeTolerance);
 
+// HSLT Sec. 5.2's jump between subspaces (their Fig. 8), for chains whose interior vertices all have a
+// density in area measure (no specular vertex: a jump would not keep h = 0 there). The first prediction of
+// the walk, x'_j = x_j + (J^{-1} (H* - H(X)))_j on x_j's tangent plane, is projected in `order`: a ray from
+// the already projected neighbour y toward x'_j, and whatever surface it meets first is the new vertex x''_j
+// (any shape, either side: the jump may leave the subspace; the caller evaluates the path). `projection`
+// turns the density of the predicted points into the density of the hits, area measure to area measure,
+// through the shared direction from y (HSLT Sec. 5.2): prod_j G(y, x''_j) / G(y, x'_j), G(y, x'_j) with the
+// tangent plane's normal.
+struct SubspaceJump {
+    std::vector<SurfaceInteraction> interior; // the hits x''_1 .. x''_{k-1}, chain order
+    double projection = 0;
+};
+[[nodiscard]] std::optional<SubspaceJump> jumpSubspace(const Scene& scene, std::span<const ManifoldVertex> chain,
+                                                       const ChainJacobian& J, const BlockTridiagonalLU& lu,
+                                                       std::span<const Vec2> targets, ProjectionOrder order);
+
+// The jump's preimage: the targets H* from which jumpSubspace at `from` (its Jacobian J, order `order`)
+// lands on `to`, a chain with the same endpoints, with the jump's `projection` factor. The predicted point
+// of vertex j is where the ray from to's neighbour (projected before it) through to_j meets from_j's
+// tangent plane, so H* = H(from) + J (X' - X): unique. Nothing when a ray runs parallel to or away from that
+// plane. Gives the reverse jump's density, and the forward one recomputed.
+struct JumpPreimage {
+    std::vector<Vec2> targets;
+    double projection = 0;
+};
+[[nodiscard]] std::optional<JumpPreimage> jumpPreimage(std::span<const ManifoldVertex> from, const ChainJacobian& J,
+                                                       std::span<const ManifoldVertex> to, ProjectionOrder order);
+
 } // namespace lt

@@ -12,6 +12,8 @@ void WalkStatistics::add(const WalkOutcome& w) {
     ++chainLengths[w.chainLength];
     iterationsAll += uint64_t(w.iterations);
     if (w.fromEye) ++(*w.fromEye ? fromEye : fromLight);
+    jumpsTried += w.jump != JumpOutcome::None;
+    jumpsProposed += w.jump == JumpOutcome::Proposed;
     if (w.failure == WalkFailure::None) {
         ++converged;
         iterationsConverged += uint64_t(w.iterations);
@@ -19,13 +21,23 @@ void WalkStatistics::add(const WalkOutcome& w) {
     }
 }
 
+void WalkStatistics::addAcceptance(const WalkOutcome& w, double a) {
+    acceptanceByLength[w.chainLength] += a;
+    if (w.jump == JumpOutcome::Proposed) jumpAcceptance += a;
+}
+
 file::StatTable WalkStatistics::table(const std::string& name, const std::string& row) const {
     file::StatTable t;
     t.name = name;
-    t.columns = {"attempted",           "converged",          "mean_iterations",     "max_iterations",
-                 "mean_iterations_all", "projected_from_eye", "projected_from_light"};
-    std::vector<double> values = {double(attempted),   double(converged), meanIterations(), double(maxIterations),
-                                  meanIterationsAll(), double(fromEye),   double(fromLight)};
+    t.columns = {"attempted",           "converged",          "mean_iterations",      "max_iterations",
+                 "mean_iterations_all", "projected_from_eye", "projected_from_light", "jumps_tried",
+                 "jumps_proposed",      "jump_acceptance"};
+    std::vector<double> values = {
+        double(attempted),        double(converged),
+        double(meanIterations()), double(maxIterations),
+        meanIterationsAll(),      double(fromEye),
+        double(fromLight),        double(jumpsTried),
+        double(jumpsProposed),    jumpsProposed ? jumpAcceptance / double(jumpsProposed) : 0.0};
     for (size_t i = 1; i < byCause.size(); ++i) {
         // A column name without blanks: "left the surface / missed" -> "failed_left_the_surface".
         std::string cause(walkFailureName(WalkFailure(i)));
@@ -46,6 +58,9 @@ void WalkStatistics::merge(const WalkStatistics& o) {
     iterationsAll += o.iterationsAll;
     fromEye += o.fromEye;
     fromLight += o.fromLight;
+    jumpsTried += o.jumpsTried;
+    jumpsProposed += o.jumpsProposed;
+    jumpAcceptance += o.jumpAcceptance;
     maxIterations = std::max(maxIterations, o.maxIterations);
     for (size_t i = 0; i < byCause.size(); ++i)
         byCause[i] += o.byCause[i];
@@ -66,6 +81,12 @@ void WalkStatistics::print(std::ostream& out) const {
         << "mean " << meanIterations() << ", max " << maxIterations << "; per walk " << meanIterationsAll() << "\n";
     if (fromEye + fromLight)
         out << "  " << std::setw(36) << "projected from the eye / light" << fromEye << " / " << fromLight << "\n";
+    if (jumpsTried)
+        out << "  " << std::setw(36) << "jumps tried / proposed" << jumpsTried << " / " << jumpsProposed
+            << " (of failed walks: "
+            << (attempted > converged ? 100.0 * double(jumpsProposed) / double(attempted - converged) : 0.0)
+            << " %), mean acceptance " << (jumpsProposed ? 100 * jumpAcceptance / double(jumpsProposed) : 0.0)
+            << " %\n";
     out << std::setprecision(1);
     for (size_t i = 1; i < byCause.size(); ++i)
         if (byCause[i])

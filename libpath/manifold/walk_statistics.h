@@ -16,12 +16,17 @@
 
 namespace lt {
 
+// HSLT Sec. 5.2's jump after a failed walk: not tried, tried (the walk failed on a path that can jump) or
+// proposed (valid both ways: its acceptance counted apart).
+enum class JumpOutcome : uint8_t { None, Tried, Proposed };
+
 // One walk as the statistics count it: how it ended, its iterations, the vertices of its chain.
 struct WalkOutcome {
     WalkFailure failure = WalkFailure::None;
     int iterations = 0;
     size_t chainLength = 0;
     std::optional<bool> fromEye; // HSLT's walks: projected from the eye (else from the light)
+    JumpOutcome jump = JumpOutcome::None;
 };
 
 struct WalkStatistics {
@@ -34,11 +39,16 @@ struct WalkStatistics {
     std::array<uint64_t, WalkFailureCount> byCause{}; // indexed by WalkFailure (None = converged)
     std::map<size_t, uint64_t> chainLengths;          // vertices per walked chain (endpoints included)
     std::map<size_t, double> acceptanceByLength;      // acceptance probabilities summed, by chain length
+    uint64_t jumpsTried = 0, jumpsProposed = 0;       // HSLT's jumps between subspaces
+    double jumpAcceptance = 0;                        // summed over proposed jumps
 
     void add(const WalkOutcome& w);
-    void add(const WalkResult& r, size_t chainLength) { add({r.failure, r.iterations, chainLength, std::nullopt}); }
-    // The acceptance probability of the proposal that walked a chain of this length (0 if it failed).
-    void addAcceptance(size_t chainLength, double a) { acceptanceByLength[chainLength] += a; }
+    void add(const WalkResult& r, size_t chainLength) {
+        add({r.failure, r.iterations, chainLength, std::nullopt, JumpOutcome::None});
+    }
+    // The acceptance probability of the proposal that made this walk (0 if it failed), by chain length
+    // and, for a jump, apart.
+    void addAcceptance(const WalkOutcome& w, double a);
     void merge(const WalkStatistics& o);
     [[nodiscard]] double convergedFraction() const { return attempted ? double(converged) / double(attempted) : 0; }
     [[nodiscard]] double meanIterations() const {

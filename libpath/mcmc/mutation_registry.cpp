@@ -82,7 +82,7 @@ const MutationKind Kinds[] = {
      "half-vector space light transport: new half vectors at every non-specular vertex at once, the light point "
      "and camera kept (glossy interreflections)",
      [](const Scene& s, const MutationSettings& m) -> std::unique_ptr<Mutation> {
-         return std::make_unique<HalfVectorMutation>(s, m.hsltGamma, m.hsltStratify);
+         return std::make_unique<HalfVectorMutation>(s, m.hsltGamma, m.hsltStratify, m.hsltJumps);
      },
      askForHslt},
     {"portal", "perturbation", "portal-based perturbation (not built yet)", nullptr, planned},

@@ -71,7 +71,7 @@ public:
                 }
             }
             k.acceptance += a;
-            if (proposal_.walk) k.walks.addAcceptance(proposal_.walk->chainLength, a);
+            if (proposal_.walk) k.walks.addAcceptance(*proposal_.walk, a);
             k.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
             const uint64_t count = done + i + 1;
             if (dumpEvery_ && count % dumpEvery_ == 0) dumped_.push_back(toPathRecord(scene_, x_, index_, count));

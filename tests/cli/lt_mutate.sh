@@ -92,6 +92,7 @@ check "bidirectional,manifold: lambda and the walk figures stored" '"$bin/lt-ins
     2> "$tmp/hs-err"; code=$?
 check "bidirectional,hslt: exit 0, walk figures with projection orders and acceptance by length" \
     '[ $code -eq 0 ] && grep -q "^hslt" "$tmp/hs-err" && grep -q "projected from the eye / light" "$tmp/hs-err" &&
+    grep -q "jumps tried / proposed" "$tmp/hs-err" &&
      grep -q "acceptance by chain length" "$tmp/hs-err"'
 check "bidirectional,hslt: gamma, image step and the walk table stored" \
     '"$bin/lt-inspect" "$tmp/hs.lts" | grep -q "hslt_gamma" && "$bin/lt-inspect" "$tmp/hs.lts" | grep -q "walks.hslt"'
@@ -102,6 +103,9 @@ check "--hslt-stratify nan refused before any work, in one line, no output" \
     '[ $code -ne 0 ] && [ "$(echo "$out" | wc -l)" -eq 1 ] && echo "$out" | grep -q "hslt-stratify" && [ ! -e "$tmp/x.lts" ]'
 out=$("$bin/lt-mutate" "$scene" --time 1 --space primary --hslt-gamma 0.2 -o "$tmp/x.lts" 2>&1); code=$?
 check "--hslt-gamma outside path space refused" '[ $code -ne 0 ] && echo "$out" | grep -q "space path"'
+out=$("$bin/lt-mutate" "$scene" --time 1 --strategies bidirectional,hslt --hslt-jumps maybe -o "$tmp/x.lts" 2>&1); code=$?
+check "--hslt-jumps takes on or off only (CLI11's message, naming the option), no output" \
+    '[ $code -ne 0 ] && echo "$out" | head -1 | grep -q "hslt-jumps" && [ ! -e "$tmp/x.lts" ]'
 "$bin/lt-mutate" "$src/scenes/cornell-spheres/scene.xml" --resolution 16x16 --strategies bidirectional,manifold \
     --mutations 20000 --chains 4 --startup-samples 2000 -o "$tmp/me2.lts" --dump-paths "$tmp/me.ltp" --dump-every 100 -q
 check "MEMLT's dumped states: lt-inspect --manifold rebuilds and walks their chains" \

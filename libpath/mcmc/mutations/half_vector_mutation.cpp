@@ -45,8 +45,8 @@ Gaussian2 principalAxes(const Vec2& a, const Vec2& b) {
 
 } // namespace
 
-HalfVectorMutation::HalfVectorMutation(const Scene& scene, double gamma, double stratify)
-    : scene_(scene), gamma_(gamma), stratify_(stratify) {
+HalfVectorMutation::HalfVectorMutation(const Scene& scene, double gamma, double stratify, bool jumps)
+    : scene_(scene), gamma_(gamma), stratify_(stratify), jumps_(jumps) {
     if (!(gamma > 0) || !(gamma <= 1))
         throw Error("the half-vector mutation's gamma must lie in (0, 1], got " + std::to_string(gamma));
     if (!(stratify >= 0) || !std::isfinite(stratify))
@@ -145,6 +145,60 @@ double HalfVectorMutation::transitionDensity(const MarkovPath& from, const Marko
     return std::isfinite(t) ? t : 0.0;
 }
 
+bool HalfVectorMutation::jumpable(const MarkovPath& x) const {
+    for (size_t i = 1; i + 1 < x.v.size(); ++i)
+        if (isSpecular(x.v[i]) || !x.v[i].bsdf) return false;
+    return x.v.size() >= 3 && !x.v[0].infinite;
+}
+
+double HalfVectorMutation::jumpDensity(const MarkovPath& from, const State& s, const State& to) const {
+    const ProjectionOrder order = projectionOrder(s.J);
+    const auto pre = jumpPreimage(s.chain, s.J, to.chain, order);
+    if (!pre) return 0;
+    // Bidirectional invalidity (HSLT Sec. 5.2): `from` jumps only where its regular walk toward the
+    // same half vectors fails; where it converges, the pair belongs to the regular move.
+    HalfVectorWalkSettings settings = walk_;
+    settings.tolerance = walkTolerance(from);
+    if (walkHalfVectors(scene_, s.chain, pre->targets, order, settings).converged()) return 0;
+    const auto K = kernels(from, s);
+    double T = std::abs(s.lu.determinant()) * pre->projection;
+    for (size_t i = 0; i < K.size(); ++i)
+        T *= K[i].density(s.J.values[i], pre->targets[i]);
+    return std::isfinite(T) ? T : 0.0;
+}
+
+void HalfVectorMutation::proposeJump(const MarkovPath& x, const State& sx, const std::vector<Vec2>& target,
+                                     double sampled, ProjectionOrder order, Proposal& out) const {
+    out.walk->jump = JumpOutcome::Tried;
+    const auto jump = jumpSubspace(scene_, sx.chain, sx.J, sx.lu, target, order);
+    if (!jump) return;
+    Proposal p;
+    p.y = x;
+    for (size_t j = 1; j + 1 < x.v.size(); ++j) {
+        PathVertex& v = p.y.v[j];
+        setSurfaceVertex(scene_, SurfaceInteraction(jump->interior[j - 1]), v);
+        if (!v.bsdf) return;
+        v.delta = false;
+        v.lobe = v.bsdf->lobes() & ~LobeDelta;
+    }
+    if (!evaluateProposal(scene_, x, p)) return;
+    const auto sy = state(p.y);
+    if (!sy || !jumpable(p.y)) return;
+    // T(x -> y) = K(H*) |det J(x)| prod G(y, x'') / G(y, x'): the kernel's density of the drawn half
+    // vectors, turned into the predicted points' area density by the affine prediction X' = X + J^{-1}
+    // (H* - H) (|dH / dX'| = |det J|, chart area being surface area), then into the hits' (HSLT Sec. 5.2).
+    // The reverse jump's density comes from its unique preimage and is 0 unless y's own walk toward it
+    // fails too. The ordinary area-measure target stays; no half-vector factor g enters.
+    // Both densities from the one function, forward from x's own preimage of y (the drawn half vectors
+    // up to rounding; what was sampled is kept for the tests).
+    const double forward = jumpDensity(x, sx, *sy), reverse = jumpDensity(p.y, *sy, sx);
+    if (!(forward > 0) || !(reverse > 0)) return;
+    out.y = std::move(p.y);
+    out.failed.reset();
+    out.walk->jump = JumpOutcome::Proposed;
+    setTransitionDensities(out, x, sampled * std::abs(sx.lu.determinant()) * jump->projection, forward, reverse);
+}
+
 double HalfVectorMutation::walkTolerance(const MarkovPath& path) const {
     double alpha = 1;
     for (size_t i = 1; i + 1 < path.v.size(); ++i)
@@ -157,7 +211,7 @@ void HalfVectorMutation::propose(const MarkovPath& x, Pcg32& rng, Proposal& out)
     out.y = x;
     const auto sx = state(x);
     if (!sx) {
-        out.walk = WalkOutcome{WalkFailure::Singular, 0, x.v.size(), std::nullopt};
+        out.walk = WalkOutcome{WalkFailure::Singular, 0, x.v.size(), std::nullopt, JumpOutcome::None};
         out.failed = RejectCause::WalkFailed;
         return;
     }
@@ -179,9 +233,11 @@ void HalfVectorMutation::propose(const MarkovPath& x, Pcg32& rng, Proposal& out)
     // 2. The vertices with those half vectors, and 3. the walk back (HSLT Fig. 12).
     const ProjectionOrder order = projectionOrder(sx->J);
     const WalkResult walked = walkHalfVectors(scene_, sx->chain, target, order, settings);
-    out.walk = WalkOutcome{walked.failure, walked.iterations, sx->chain.size(), order == ProjectionOrder::FromEye};
+    out.walk = WalkOutcome{walked.failure, walked.iterations, sx->chain.size(), order == ProjectionOrder::FromEye,
+                           JumpOutcome::None};
     if (!walked.converged()) {
         out.failed = rejectCauseOf(walked.failure);
+        if (jumps_ && jumpable(x)) proposeJump(x, *sx, target, sampled, order, out);
         return;
     }
     const WalkResult rev = reverseHalfVectorWalk(scene_, sx->chain, walked.chain, back, settings, ReverseWalkTolerance);

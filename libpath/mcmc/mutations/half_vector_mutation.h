@@ -7,8 +7,16 @@
 // vertices with those half vectors (manifold/half_vector_walk.h: all vertices predicted at once by J^{-1}
 // and projected by ray casting, the projection order by the heuristic of Sec. 5.1), checks that the walk
 // back reaches the state (Sec. 5.2), and accepts with the densities of both states. Always mixed with
-// the bidirectional mutation, which changes lengths and configurations (Sec. 5.1). Not built: the jumps
-// between subspaces of Sec. 5.2 (Fig. 8-9); walks that fail are rejected.
+// the bidirectional mutation, which changes lengths and configurations (Sec. 5.1).
+//
+// Jumps between subspaces (Sec. 5.2, Fig. 8-9): where the walk fails to converge, the walk's first
+// prediction, projected onto whatever surfaces its rays meet (half_vector_walk.h jumpSubspace), is
+// proposed instead, with area-measure densities both ways: T(x -> y) = K_x(H*) |det J(x)| prod G(y_prev,
+// y_j) / G(y_prev, x'_j). It is a move of its own in the Metropolis-Hastings sense: x -> y is a jump only
+// when x's regular walk toward H* fails, so the reverse density counts only if y's regular walk toward
+// the preimage of x fails as well (the paper's "bidirectionally invalid"); then the pair can never also
+// be a regular move, and each move keeps detailed balance alone. Only paths without specular vertices
+// jump (a jump does not keep h = 0 at a specular vertex, so its f would vanish).
 //
 // Target in half-vector space (HSLT Eq. 4-5). With J = dH/dX the block-tridiagonal constraint Jacobian over
 // the interior vertices (chart coordinates, orthonormal: area measure), f_H = f |det J|^{-1}. lt's f~ strips
@@ -48,7 +56,7 @@ namespace lt {
 class HalfVectorMutation final : public Mutation {
 public:
     // gamma in (0, 1] (HSLT Sec. 6.1); stratify >= 0, the image-plane step as a fraction of the image.
-    HalfVectorMutation(const Scene& scene, double gamma = 0.1, double stratify = 0.02);
+    HalfVectorMutation(const Scene& scene, double gamma = 0.1, double stratify = 0.02, bool jumps = true);
 
     [[nodiscard]] std::string name() const override { return "hslt"; }
     // At least one non-specular interior vertex, and no vertex at infinity (lt's chains hold none yet).
@@ -71,10 +79,20 @@ public:
     [[nodiscard]] double transitionDensity(const MarkovPath& from, const MarkovPath& to) const;
     // The walks' tolerance on |c - c*| for a state: from its materials alone (half_vector_mutation.cpp).
     [[nodiscard]] double walkTolerance(const MarkovPath& path) const;
+    // A state the jump of HSLT Sec. 5.2 can leave and reach: no specular interior vertex, every one with a BSDF.
+    [[nodiscard]] bool jumpable(const MarkovPath& x) const;
+    // T(from -> to) of the jump (area measure, header comment), s and `to` the two states; 0 when `to` is
+    // not a jump of `from`'s: no preimage, or `from`'s regular walk toward it converges.
+    [[nodiscard]] double jumpDensity(const MarkovPath& from, const State& s, const State& to) const;
 
 private:
+    // After the regular walk toward `target` failed: the jump, proposed when valid (out.failed cleared).
+    void proposeJump(const MarkovPath& x, const State& sx, const std::vector<Vec2>& target, double sampled,
+                     ProjectionOrder order, Proposal& out) const;
+
     const Scene& scene_;
     double gamma_, stratify_;
+    bool jumps_;
     HalfVectorWalkSettings walk_;
 };
 

@@ -357,12 +357,13 @@ void ManifoldPerturbation::propose(const MarkovPath& x, Pcg32& rng, Proposal& ou
         const auto chain = manifoldChain(x.v, size_t(s->c), size_t(s->b));
         const auto target = manifoldVertex(out.y.v[size_t(s->b)].si);
         if (!chain || !target) { // a degenerate chart: no chain to walk
-            out.walk = WalkOutcome{WalkFailure::Singular, 0, size_t(std::abs(s->c - s->b)) + 1, std::nullopt};
+            out.walk = WalkOutcome{WalkFailure::Singular, 0, size_t(std::abs(s->c - s->b)) + 1, std::nullopt,
+                                   JumpOutcome::None};
             out.failed = RejectCause::WalkFailed;
             return;
         }
         const WalkResult walked = walkManifold(scene_, *chain, *target, WalkEnd::Last, walk_);
-        out.walk = WalkOutcome{walked.failure, walked.iterations, chain->size(), std::nullopt};
+        out.walk = WalkOutcome{walked.failure, walked.iterations, chain->size(), std::nullopt, JumpOutcome::None};
         if (!walked.converged()) {
             out.failed = rejectCauseOf(walked.failure);
             return;

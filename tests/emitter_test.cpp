@@ -17,7 +17,10 @@
 #include "math/error.h"
 #include "math/rng.h"
 #include "math/warp.h"
+#include "path/vertex.h"
 #include "scene/emitter.h"
+#include "scene/scene.h"
+#include "test_util.h"
 
 using namespace lt;
 
@@ -464,5 +467,24 @@ TEST_CASE("envmap emitter", "[emitter]") {
         writeExr(blackFile, 8, 4, black);
         CHECK_THROWS_WITH(makeEnvmapEmitter(blackFile, Transform(), 1.0),
                           blackFile + ": the environment map is completely black");
+    }
+}
+
+TEST_CASE("a surface vertex takes its shape's emitter, and none on a shape without one", "[emitter]") {
+    // A vertex moved from the light onto a wall (HSLT's jumps rebuild vertices in place) must not keep
+    // the light: the bidirectional mutation would then take it for a light vertex of emitter -1.
+    const auto scene = loadScene(test::shippedScene("cornell-box"));
+    int lightShape = -1, plainShape = -1;
+    for (size_t i = 0; i < scene->shapes.size(); ++i)
+        (scene->shapes[i].emitter >= 0 ? lightShape : plainShape) = int(i);
+    REQUIRE(lightShape >= 0);
+    REQUIRE(plainShape >= 0);
+    PathVertex v;
+    for (const int shape : {lightShape, plainShape}) {
+        SurfaceInteraction si = scene->shapes[size_t(shape)].surfaceAt(0, Vec2(0.25, 0.25));
+        si.shape = shape;
+        setSurfaceVertex(*scene, std::move(si), v);
+        CHECK(v.emitterIndex == scene->shapes[size_t(shape)].emitter);
+        CHECK((v.emitter != nullptr) == (shape == lightShape));
     }
 }

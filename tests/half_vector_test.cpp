@@ -234,8 +234,8 @@ TEST_CASE("the jump between subspaces: its preimage inverts it, and its density 
     // h-perp) so that the hits land on other faces, spheres and walls than the walk would allow.
     const Scene scene = room();
     Pcg32 rng(23, 1);
-    int checked = 0, otherShape = 0;
-    double worstTarget = 0, worstDensity = 0;
+    int checked = 0, otherShape = 0, roundTrips = 0;
+    double worstTarget = 0, worstDensity = 0, worstReturn = 0;
     for (int attempt = 0; attempt < 3000 && checked < 200; ++attempt) {
         const auto chain = randomPath(scene, 2 + attempt % 3, rng);
         if (!chain) continue;
@@ -292,6 +292,25 @@ TEST_CASE("the jump between subspaces: its preimage inverts it, and its density 
         REQUIRE(pre);
         for (size_t i = 0; i < target.size(); ++i)
             worstTarget = std::max(worstTarget, length(pre->targets[i] - target[i]));
+        // The reverse jump, which the reverse density describes: from the hits, in their own order and
+        // charts, the preimage of the state must jump back onto the state's vertices.
+        ManifoldChain back = *to;
+        bool scatters = true;
+        for (size_t j = 1; j + 1 < back.size(); ++j)
+            scatters = scatters && setScattering(back[j], back[j - 1], back[j + 1], std::nullopt, false);
+        const auto JY = scatters ? chainJacobian(back) : std::nullopt;
+        const auto luY = JY ? BlockTridiagonalLU::factor(JY->A) : std::nullopt;
+        // (No preimage where a ray of the state runs away from the hit's tangent plane: no reverse jump,
+        // the mutation rejects.)
+        const ProjectionOrder orderY = JY ? projectionOrder(*JY) : ProjectionOrder::FromLight;
+        const auto preY = luY ? jumpPreimage(back, *JY, *chain, orderY) : std::nullopt;
+        if (preY) {
+            const auto again = jumpSubspace(scene, back, *JY, *luY, preY->targets, orderY);
+            REQUIRE(again);
+            ++roundTrips;
+            for (size_t j = 1; j + 1 < chain->size(); ++j)
+                worstReturn = std::max(worstReturn, length(again->interior[j - 1].p - (*chain)[j].p));
+        }
         CHECK(pre->projection == Approx(jump->projection).epsilon(1e-9));
         // |dH* / d(hits)| = |det J| prod(projection): the jump's density per unit kernel density.
         const double claimed = std::abs(lu->determinant()) * jump->projection;
@@ -299,10 +318,13 @@ TEST_CASE("the jump between subspaces: its preimage inverts it, and its density 
         worstDensity = std::max(worstDensity, std::abs(claimed / measured - 1));
     }
     INFO(checked << " jumps checked (" << otherShape << " vertices on another shape); preimage off by at most "
-                 << worstTarget << ", density by " << worstDensity);
+                 << worstTarget << ", density by " << worstDensity << "; " << roundTrips
+                 << " jumped back, the farthest " << worstReturn << " from the state");
     CHECK(checked == 200);
     CHECK(otherShape > 20);
     CHECK(worstTarget < 1e-9);
+    CHECK(roundTrips > 100);
+    CHECK(worstReturn < 1e-9); // the room is 4 across
     // Central differences of step 1e-6 on coordinates of order 1: truncation ~1e-12, rounding ~1e-10 / 1e-6
     // (measured 5e-7; without the G(y, x'') / G(y, x') factors, 9.2).
     CHECK(worstDensity < 1e-4);

@@ -82,11 +82,9 @@ void WalkStatistics::print(std::ostream& out) const {
     if (fromEye + fromLight)
         out << "  " << std::setw(36) << "projected from the eye / light" << fromEye << " / " << fromLight << "\n";
     if (jumpsTried)
-        out << "  " << std::setw(36) << "jumps tried / proposed" << jumpsTried << " / " << jumpsProposed
-            << " (of failed walks: "
-            << (attempted > converged ? 100.0 * double(jumpsProposed) / double(attempted - converged) : 0.0)
-            << " %), mean acceptance " << (jumpsProposed ? 100 * jumpAcceptance / double(jumpsProposed) : 0.0)
-            << " %\n";
+        out << "  " << std::setw(36) << "jumps tried / proposed" << jumpsTried << " / " << jumpsProposed << " ("
+            << 100.0 * double(jumpsProposed) / double(jumpsTried) << " %), mean acceptance "
+            << (jumpsProposed ? 100 * jumpAcceptance / double(jumpsProposed) : 0.0) << " %\n";
     out << std::setprecision(1);
     for (size_t i = 1; i < byCause.size(); ++i)
         if (byCause[i])

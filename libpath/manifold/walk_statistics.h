@@ -46,8 +46,8 @@ struct WalkStatistics {
     void add(const WalkResult& r, size_t chainLength) {
         add({r.failure, r.iterations, chainLength, std::nullopt, JumpOutcome::None});
     }
-    // The acceptance probability of the proposal that made this walk (0 if it failed), by chain length
-    // and, for a jump, apart.
+    // The acceptance probability of the proposal that made this walk (0 if nothing was proposed), by chain
+    // length (a jump proposed after a failed walk included) and, for a jump, also apart.
     void addAcceptance(const WalkOutcome& w, double a);
     void merge(const WalkStatistics& o);
     [[nodiscard]] double convergedFraction() const { return attempted ? double(converged) / double(attempted) : 0; }

@@ -123,7 +123,8 @@ void setSurfaceVertex(const Scene& scene, SurfaceInteraction&& si, PathVertex& v
     v.si = std::move(si);
     v.bsdf = scene.bsdfOf(v.si);
     v.emitterIndex = scene.shapes[size_t(v.si.shape)].emitter;
-    if (v.emitterIndex >= 0) v.emitter = scene.emitters[size_t(v.emitterIndex)].get();
+    // Reset too: a vertex moved off an emitting shape (HSLT's jumps) must not keep its old emitter.
+    v.emitter = v.emitterIndex >= 0 ? scene.emitters[size_t(v.emitterIndex)].get() : nullptr;
 }
 
 PathVertex lightVertexAt(const Scene& scene, size_t index, const Vec3& p, const Vec3& nOrTravel, uint32_t prim,

@@ -7,6 +7,10 @@
 # seconds each (default 30): HSLT's gamma (0.03, 0.1, 0.3, 1) and its image-plane stratification off
 # (--hslt-stratify 0) against on (0.02). SCENES="glossy-rings" runs only those.
 #   [REF_TIME=S] [SWEEP=S] pipelines/bench/hslt.sh [SECONDS] [OUT]   (default 60 s, bench-hslt)
+# With AUTO=1, only the question whether `auto` should take hslt, SECONDS each on every scene of SCENES:
+# auto's own mix (mlt) against the same mix with hslt added, and on glossy-rings HSLT's jumps on and off
+# (bidirectional + hslt), in OUT/auto/SCENE.
+#   AUTO=1 [SCENES=...] pipelines/bench/hslt.sh 120 bench-hslt
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 seconds="${1:-60}"
@@ -25,6 +29,32 @@ reference() {
   fi
   echo "$ref"
 }
+
+if [ -n "${AUTO:-}" ]; then
+  for scene in ${SCENES:-glossy-rings veach-mis veach-bidir}; do
+    ref="$(reference "$scene")"
+    dir="$out/auto/$scene"
+    mkdir -p "$dir"
+    xml="$root/scenes/$scene/scene.xml"
+    "$bin/lt-mutate" "$xml" --strategies auto --time "$seconds" --snapshots doubling -o "$dir/auto.lts" 2> "$dir/auto.log"
+    # auto's mix as it was chosen (INFO strategies), with hslt added at weight 1.
+    mix="$("$bin/lt-inspect" "$dir/auto.lts" | sed -n 's/.*strategies=\[\(.*\)\].*/\1/p' |
+      grep -o '"name":"[a-z-]*"' | cut -d'"' -f4 | paste -sd, -)"
+    "$bin/lt-mutate" "$xml" --strategies "$mix,hslt" --time "$seconds" --snapshots doubling -o "$dir/auto-hslt.lts" \
+      2> "$dir/auto-hslt.log"
+    files=("$dir/auto.lts" "$dir/auto-hslt.lts")
+    if [ "$scene" = glossy-rings ]; then
+      for j in on off; do
+        "$bin/lt-mutate" "$xml" --strategies bidirectional,hslt --hslt-jumps "$j" --time "$seconds" --snapshots doubling \
+          -o "$dir/hslt-jumps-$j.lts" 2> "$dir/hslt-jumps-$j.log"
+        files+=("$dir/hslt-jumps-$j.lts")
+      done
+    fi
+    echo "== $scene: auto = $mix"
+    "$bin/lt-error" "${files[@]}" --ref "$ref" | tee "$dir/error.txt"
+  done
+  exit 0
+fi
 
 for scene in ${SCENES:-veach-mis glossy-rings veach-bidir}; do
   ref="$(reference "$scene")"

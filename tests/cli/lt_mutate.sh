@@ -95,7 +95,8 @@ check "bidirectional,hslt: exit 0, walk figures with projection orders and accep
     grep -q "jumps tried / proposed" "$tmp/hs-err" &&
      grep -q "acceptance by chain length" "$tmp/hs-err"'
 check "bidirectional,hslt: gamma, image step and the walk table stored" \
-    '"$bin/lt-inspect" "$tmp/hs.lts" | grep -q "hslt_gamma" && "$bin/lt-inspect" "$tmp/hs.lts" | grep -q "walks.hslt"'
+    '"$bin/lt-inspect" "$tmp/hs.lts" | grep -q "hslt_gamma" && "$bin/lt-inspect" "$tmp/hs.lts" | grep -q "hslt_jumps=true" &&
+     "$bin/lt-inspect" "$tmp/hs.lts" | grep -q "walks.hslt"'
 out=$("$bin/lt-mutate" "$scene" --time 1 --strategies bidirectional,hslt --hslt-gamma 0 -o "$tmp/x.lts" 2>&1); code=$?
 check "--hslt-gamma 0 refused in one line" '[ $code -ne 0 ] && [ "$(echo "$out" | wc -l)" -eq 1 ] && echo "$out" | grep -q gamma'
 out=$("$bin/lt-mutate" "$scene" --time 1 --strategies bidirectional,hslt --hslt-stratify nan -o "$tmp/x.lts" 2>&1); code=$?

@@ -12,11 +12,12 @@
 // Jumps between subspaces (Sec. 5.2, Fig. 8-9): where the walk fails to converge, the walk's first
 // prediction, projected onto whatever surfaces its rays meet (half_vector_walk.h jumpSubspace), is
 // proposed instead, with area-measure densities both ways: T(x -> y) = K_x(H*) |det J(x)| prod G(y_prev,
-// y_j) / G(y_prev, x'_j). It is a move of its own in the Metropolis-Hastings sense: x -> y is a jump only
-// when x's regular walk toward H* fails, so the reverse density counts only if y's regular walk toward
-// the preimage of x fails as well (the paper's "bidirectionally invalid"); then the pair can never also
-// be a regular move, and each move keeps detailed balance alone. Only paths without specular vertices
-// jump (a jump does not keep h = 0 at a specular vertex, so its f would vanish).
+// y_j) / G(y_prev, x'_j). It is a move of its own in the Metropolis-Hastings sense (the move's kind is
+// part of the proposal): x -> y is a jump only when x's regular walk toward the drawn H* fails, so the
+// reverse jump's density counts only if y's regular walk toward the preimage of x fails as well (the
+// paper's "bidirectionally invalid"), and each kind, with its own densities both ways, keeps detailed
+// balance alone (a pair may be reachable by both kinds, through different half vectors). Only paths
+// without specular vertices jump (a jump does not keep h = 0 at a specular vertex, so its f would vanish).
 //
 // Target in half-vector space (HSLT Eq. 4-5). With J = dH/dX the block-tridiagonal constraint Jacobian over
 // the interior vertices (chart coordinates, orthonormal: area measure), f_H = f |det J|^{-1}. lt's f~ strips

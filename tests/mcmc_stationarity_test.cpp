@@ -223,6 +223,8 @@ MutationStatistics checkVisits(const Scene& scene, const std::vector<double>& ex
     // |det J| is small, not a bias.)
     settings.hsltGamma = 1;
     settings.hsltStratify = 0.1;
+    // Its jumps between subspaces on (off by default in lt-mutate): their densities are tested here.
+    settings.hsltJumps = true;
     // Seeds are draws in proportion to f*, so every chain starts in the stationary distribution: no
     // burn-in is discarded.
     PathSettings bdpt;

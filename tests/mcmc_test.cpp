@@ -187,6 +187,44 @@ TEST_CASE("path-space MLT in the furnace box: every pixel is Le * sum of rho^k",
     CHECK(m.error < 0.02 * exact);
 }
 
+TEST_CASE("path-space MLT under a uniform environment: a convex diffuse sphere has radiance albedo * L", "[mcmc]") {
+    // test_util.h's sky sphere: the sphere sends albedo * L = 1.4, the corners see the sky itself (2). The chains'
+    // paths start on the environment (light vertices that are directions, moved by the bidirectional mutation from both
+    // sides) and are normalized by b from BDPT, whose paths end there too. 8 independent runs; 5 standard
+    // errors of their spread.
+    test::TempDir dir;
+    auto scene = loadScene(test::skySphere(dir));
+    for (const std::string mix : {"bidirectional", "bidirectional,lens,lens-subpath"}) {
+        INFO(mix);
+        std::vector<double> sphere, sky;
+        for (uint64_t seed = 0; seed < 8; ++seed) {
+            const auto img = runPathMix(*scene, mix, 4, 32 * 32 * 1024, seed);
+            double a = 0, c = 0;
+            for (int y = 0; y < 32; ++y)
+                for (int x = 0; x < 32; ++x) {
+                    const double g = img[3 * size_t(y * 32 + x) + 1];
+                    // The central 8 x 8 pixels see only the sphere, the 3 x 3 corners only the sky.
+                    if (x >= 12 && x < 20 && y >= 12 && y < 20) a += g / 64;
+                    if ((x < 3 || x >= 29) && (y < 3 || y >= 29)) c += g / 36;
+                }
+            sphere.push_back(a);
+            sky.push_back(c);
+        }
+        const auto s = meanAndError(sphere), c = meanAndError(sky);
+        INFO("sphere " << s.mean << " +- " << s.error << " (1.4), sky " << c.mean << " +- " << c.error << " (2)");
+        CHECK(std::abs(s.mean - 1.4) < 5 * s.error + 1e-6);
+        CHECK(std::abs(c.mean - 2.0) < 5 * c.error + 1e-6);
+        CHECK(s.error < 0.02 * 1.4);
+    }
+}
+
+TEST_CASE("path-space MLT on glossy-sky (a constant environment and an area light) converges to BDPT", "[mcmc]") {
+    auto scene = loadScene(test::shippedScene("glossy-sky"));
+    checkAgainstBdpt(*scene, 6, 8,
+                     {{"bidirectional", pathRuns(*scene, "bidirectional", 6)},
+                      {"bidirectional,lens", pathRuns(*scene, "bidirectional,lens", 6)}});
+}
+
 TEST_CASE("chains are bit-identical whatever the thread count", "[mcmc]") {
     test::TempDir dir;
     const auto scene = loadScene(test::furnaceBox(dir, 0.5, 3));
@@ -198,8 +236,10 @@ TEST_CASE("chains are bit-identical whatever the thread count", "[mcmc]") {
 TEST_CASE("bidirectional mutation: the density it samples with is the one T(x -> y) is computed from", "[mcmc]") {
     // For many current paths, propose, and compare the density the proposal
     // multiplied while sampling with the one recomputed from the two paths alone; on a scene with glass
-    // and mirror spheres (specular vertices in both directions) and on the diffuse cornell-box.
-    for (const std::string name : {"cornell-spheres", "cornell-box"}) {
+    // and mirror spheres (specular vertices in both directions), on the diffuse cornell-box, and on
+    // glossy-sky (a constant environment: light vertices that are directions, sampled from the light side
+    // and by eye subpaths that escape).
+    for (const std::string name : {"cornell-spheres", "cornell-box", "glossy-sky"}) {
         auto scene = loadScene(test::shippedScene(name));
         scene->camera = scene->camera.withResolution(32, 32);
         PathSettings b;
@@ -207,7 +247,7 @@ TEST_CASE("bidirectional mutation: the density it samples with is the one T(x ->
         const auto seeds = seedWithBdpt(*scene, b, 20000, name == "cornell-box" ? 50 : 5000, 1, 2, nullptr);
         const BidirectionalMutation bidir(*scene, 8);
         Pcg32 rng(3, 3);
-        int checked = 0, specular = 0, off = 0, dropped = 0;
+        int checked = 0, specular = 0, off = 0, dropped = 0, sky = 0;
         double worst = 0;
         for (size_t i = 0; i < seeds.paths.size(); ++i) {
             const auto state = stateOf(*scene, seeds.paths[i], i);
@@ -224,6 +264,7 @@ TEST_CASE("bidirectional mutation: the density it samples with is the one T(x ->
                 bidir.propose(x, rng, p);
                 if (p.failed) continue;
                 ++checked;
+                sky += p.y.v[0].infinite;
                 for (const auto& v : p.y.v)
                     specular += isSpecular(v);
                 INFO(name << ": path " << i << ", " << x.edges() << " -> " << p.y.edges() << " edges");
@@ -244,11 +285,12 @@ TEST_CASE("bidirectional mutation: the density it samples with is the one T(x ->
                 CHECK(std::isfinite(p.reverseQ));
                 // On diffuse paths the reverse move always exists (same range, lengths swapped); a specular
                 // vertex in the old range can make it impossible (no split connects around it): a = 0.
-                if (name == "cornell-box") CHECK(p.reverseQ > 0);
+                if (name != "cornell-spheres") CHECK(p.reverseQ > 0);
             }
         }
-        INFO(name << ": " << checked << " proposals checked, " << specular << " specular vertices in them; " << off
-                  << " densities off by more than 1e-3, the worst by " << worst << "; " << dropped << " dropped");
+        INFO(name << ": " << checked << " proposals checked, " << specular << " specular vertices in them, " << sky
+                  << " lit by the sky; " << off << " densities off by more than 1e-3, the worst by " << worst << "; "
+                  << dropped << " dropped");
         CHECK(dropped < checked / 50);
         CHECK(checked > 1000);
         // Rays leave surfaces from an offset origin (scene/ray.h) and hits carry float barycentrics, so the
@@ -259,6 +301,7 @@ TEST_CASE("bidirectional mutation: the density it samples with is the one T(x ->
         CHECK(off < checked / 100);
         CHECK(worst < 0.5);
         if (name == "cornell-spheres") CHECK(specular > 100);
+        if (name == "glossy-sky") CHECK(sky > 500);
     }
 }
 
@@ -290,47 +333,57 @@ TEST_CASE("a seed path's f / p recomputed from scratch equals the BDPT contribut
     // f~ / p~ of the same split (s light-side vertices, the rest from the eye) must give the same value
     // (times the pixel count, markov_path.h; camera strategies also by the crop-to-sensor density ratio):
     // this ties the delta stripping of specular vertices to BDPT's throughput weights.
-    auto scene = loadScene(test::shippedScene("cornell-spheres"));
-    scene->camera = scene->camera.withResolution(32, 32);
-    PathSettings b;
-    b.maxDepth = 6;
-    const auto seeds = seedWithBdpt(*scene, b, 20000, 3000, 2, 2, nullptr);
-    const BidirectionalMutation bidir(*scene, 6);
-    const SensorWindow sensor(scene->camera);
-    const double pixels = 32 * 32;
-    int checked = 0, specular = 0, bad = 0;
-    for (size_t i = 0; i < seeds.paths.size(); ++i) {
-        const auto& rec = seeds.paths[i];
-        const auto state = stateOf(*scene, rec, i);
-        if (!state) continue;
-        const MarkovPath& x = *state;
-        const int k = x.edges();
-        double split = 0;
-        (void)bidir.newVertexDensity(x, 0, k - 1, rec.s, &split);
-        // newVertexDensity's light side starts with the area-emitter choice; BDPT chooses among all.
-        double areaMass = 0;
-        for (size_t e = 0; e < scene->emitters.size(); ++e)
-            if (scene->emitters[e]->shape >= 0) areaMass += scene->emitterSelection.pmf(e);
-        if (rec.s > 0) split *= areaMass;
-        const Spectrum c(rec.contribution[0], rec.contribution[1], rec.contribution[2]);
-        const double expected = pixels * c.luminance() / (rec.t >= 2 ? sensor.cropToSensorDensity() : 1.0);
-        if (!(split > 0) || !(expected > 0)) continue;
-        ++checked;
-        bool hasSpecular = false;
-        for (const auto& v : x.v)
-            hasSpecular |= isSpecular(v);
-        specular += hasSpecular;
-        const double ratio = x.target / split / expected;
-        if (std::abs(ratio - 1) > 1e-3) {
-            ++bad;
-            UNSCOPED_INFO("path " << i << " (s = " << rec.s << ", t = " << rec.t << ", specular " << hasSpecular
-                                  << "): ratio " << ratio);
+    // On cornell-spheres (specular vertices) and glossy-sky (a constant environment: escaped camera paths,
+    // s = 0, and light vertices that are directions in solid angle, s >= 1).
+    for (const std::string name : {"cornell-spheres", "glossy-sky"}) {
+        INFO(name);
+        auto scene = loadScene(test::shippedScene(name));
+        scene->camera = scene->camera.withResolution(32, 32);
+        PathSettings b;
+        b.maxDepth = 6;
+        const auto seeds = seedWithBdpt(*scene, b, 20000, 3000, 2, 2, nullptr);
+        const BidirectionalMutation bidir(*scene, 6);
+        const SensorWindow sensor(scene->camera);
+        const double pixels = 32 * 32;
+        int checked = 0, specular = 0, bad = 0, sky = 0;
+        for (size_t i = 0; i < seeds.paths.size(); ++i) {
+            const auto& rec = seeds.paths[i];
+            const auto state = stateOf(*scene, rec, i);
+            if (!state) continue;
+            const MarkovPath& x = *state;
+            const int k = x.edges();
+            double split = 0;
+            (void)bidir.newVertexDensity(x, 0, k - 1, rec.s, &split);
+            // newVertexDensity's light side starts with the choice among the emitters whose vertex moves (area
+            // and environment); BDPT chooses among all.
+            double movableMass = 0;
+            for (size_t e = 0; e < scene->emitters.size(); ++e)
+                if (scene->emitters[e]->shape >= 0 ||
+                    (scene->emitters[e]->isInfinite() && !scene->emitters[e]->isDelta()))
+                    movableMass += scene->emitterSelection.pmf(e);
+            if (rec.s > 0) split *= movableMass;
+            const Spectrum c(rec.contribution[0], rec.contribution[1], rec.contribution[2]);
+            const double expected = pixels * c.luminance() / (rec.t >= 2 ? sensor.cropToSensorDensity() : 1.0);
+            if (!(split > 0) || !(expected > 0)) continue;
+            ++checked;
+            bool hasSpecular = false;
+            for (const auto& v : x.v)
+                hasSpecular |= isSpecular(v);
+            specular += hasSpecular;
+            sky += x.v[0].infinite;
+            const double ratio = x.target / split / expected;
+            if (std::abs(ratio - 1) > 1e-3) {
+                ++bad;
+                UNSCOPED_INFO("path " << i << " (s = " << rec.s << ", t = " << rec.t << ", specular " << hasSpecular
+                                      << "): ratio " << ratio);
+            }
         }
+        INFO(checked << " paths checked, " << specular << " with specular vertices, " << sky << " lit by the sky");
+        CHECK(checked > 1000);
+        if (name == "cornell-spheres") CHECK(specular > 50);
+        if (name == "glossy-sky") CHECK(sky > 300);
+        CHECK(bad <= checked / 100);
     }
-    INFO(checked << " paths checked, " << specular << " with specular vertices");
-    CHECK(checked > 1000);
-    CHECK(specular > 50);
-    CHECK(bad <= checked / 100);
 }
 
 // ---- Veach's perturbations (Veach thesis 11.4.3-11.4.4) ----

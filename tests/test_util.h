@@ -54,6 +54,23 @@ inline std::string errorOf(const std::function<void()>& f) {
     return "(no error)";
 }
 
+// A convex diffuse sphere (radius 1, albedo 0.7) under a uniform sky of radiance 2, seen from 5 away at
+// 32 x 32 pixels: every point of the sphere sees only the sky, so it sends 0.7 * 2 = 1.4. The sphere
+// subtends 11.5 degrees around the axis: the central 8 x 8 pixels see only the sphere, the 3 x 3 corners
+// only the sky.
+inline std::string skySphere(const TempDir& dir) {
+    return dir.write("sky.xml", R"(<scene version="0.5.0">
+  <integrator type="path"><integer name="maxDepth" value="-1"/></integrator>
+  <sensor type="perspective"><float name="fov" value="40"/>
+    <transform name="toWorld"><lookat origin="0,0,5" target="0,0,0" up="0,1,0"/></transform>
+    <film type="hdrfilm"><integer name="width" value="32"/><integer name="height" value="32"/><rfilter type="box"/></film>
+  </sensor>
+  <emitter type="constant"><rgb name="radiance" value="2"/></emitter>
+  <shape type="sphere"><float name="radius" value="1"/>
+    <bsdf type="diffuse"><rgb name="reflectance" value="0.7"/></bsdf></shape>
+</scene>)");
+}
+
 // A closed box whose walls all emit Le = 1 and reflect diffusely with albedo rho, seen from inside;
 // `scale` shrinks the whole scene (the camera's near clip with it), `filter` picks the pixel filter;
 // `inside`: more shapes in the box (lossless specular ones keep every pixel at Le * sum of rho^k).

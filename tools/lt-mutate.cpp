@@ -46,7 +46,7 @@ int main(int argc, char** argv) {
     int chains = 256, threads = 0, maxDepth = -2, unbounded = 12, round = 64;
     size_t dumpEvery = 0;
     bool quiet = false;
-    std::string hsltJumps = "on";
+    std::string hsltJumps = "off";
     std::vector<std::string> defines;
     app.add_option("SCENE", scenePath, "Mitsuba 0.5/0.6 scene (.xml)")->required();
     app.add_option("SEEDS", seedsPath,
@@ -72,7 +72,8 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(0.0, 1.0));
     app.add_option("--hslt-jumps", hsltJumps,
                    "half-vector mutation: where a walk fails, propose its first prediction projected onto whatever "
-                   "it hits (HSLT's jumps between subspaces; on by default, off for comparisons)")
+                   "it hits (HSLT's jumps between subspaces; off by default: on glossy-rings they left chains stuck "
+                   "on a few pixels, relMSE 4.8 against 0.37 at 120 s)")
         ->check(CLI::IsMember({"on", "off"}));
     app.add_option("--mutations", mutations, "total mutations over all chains")->check(CLI::PositiveNumber);
     app.add_option("--mutations-per-pixel", mutationsPerPixel, "total mutations as a multiple of the pixel count")

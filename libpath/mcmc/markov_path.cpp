@@ -40,14 +40,14 @@ std::optional<RejectCause> evaluatePath(const Scene& scene, MarkovPath& path, co
     // The image position and the sensor's importance, with the cosine at the pinhole: W_e cos / d^2 is
     // the camera's share of the last edge (bdpt.cpp, t = 1), the rest of G is the cosine at v[k-1].
     const PerspectiveCamera& cam = scene.camera;
-    const Vec3 toPoint = v[k - 1].si.p - cam.position();
-    const double dist = length(toPoint);
-    const Vec3 dir = toPoint / dist;
+    const Vec3 dir = v[k].directionTo(v[k - 1]); // the sky seen directly: against its travel
     const auto raster = cam.rasterPosition(dir);
     if (!raster) return RejectCause::LeftImage;
     path.raster = *raster;
     const double cosCam = dot(dir, cam.forward());
-    if (!(cosCam > 0) || dist * cosCam < cam.nearClip()) return RejectCause::LeftImage;
+    if (!(cosCam > 0)) return RejectCause::LeftImage;
+    if (!v[k - 1].infinite && length(v[k - 1].si.p - cam.position()) * cosCam < cam.nearClip())
+        return RejectCause::LeftImage;
 
     // A point or spot light seen by the pinhole directly or through specular vertices only: every vertex
     // is fixed by the others, a path space of measure zero that no pixel integral sees.
@@ -88,8 +88,8 @@ MarkovPath pathFromRecord(const Scene& scene, const file::PathRecord& record, si
     const std::string name = "seed path " + std::to_string(index);
     MarkovPath path;
     path.v = verticesFromRecord(scene, record, name);
-    if (path.v.front().infinite)
-        throw Error(name + ": starts on an environment emitter, which path-space chains do not handle yet");
+    if (path.v.front().infinite && path.v.front().isDeltaLight())
+        throw Error(name + ": starts on a directional emitter, which path-space chains do not handle yet");
     if (const auto why = evaluatePath(scene, path))
         throw Error(name + ": carries no light in this scene (" + rejectCauseName(*why) + ")");
     return path;

@@ -19,7 +19,8 @@ struct MutationSettings {
     double normalChange = Pi / 180; // its Delta-theta (ME App. A1; measureNormalChange), radians
     double hsltGamma = 0.1;         // the half-vector mutation's BSDF step scale (HSLT Sec. 6.1)
     double hsltStratify = 0.02;     // its image-plane step, a fraction of the image (HSLT Sec. 6.2; 0: off)
-    bool hsltJumps = true;          // its jumps between subspaces after failed walks (HSLT Sec. 5.2)
+    bool hsltJumps = false;         // its jumps between subspaces after failed walks (HSLT Sec. 5.2; off:
+                                    // pipelines/results/hslt/README.md)
 };
 
 struct MutationKind {

@@ -79,7 +79,9 @@ std::vector<PathVertex> verticesFromRecord(const Scene& scene, const file::PathR
             const Emitter& e = *scene.emitters[size_t(r.light)];
             if (e.shape >= 0 && r.prim >= scene.shapes[size_t(e.shape)].primitiveCount())
                 throw fail("its light vertex names a primitive the emitter's shape lacks");
-            x = lightVertexAt(scene, size_t(r.light), p, Vec3(r.ng[0], r.ng[1], r.ng[2]), r.prim,
+            // An infinite emitter's vertex holds its travel direction, stored in float: made unit again.
+            const Vec3 n(r.ng[0], r.ng[1], r.ng[2]);
+            x = lightVertexAt(scene, size_t(r.light), p, e.isInfinite() ? normalize(n) : n, r.prim,
                               Vec2(r.coords[0], r.coords[1]));
             if (!x.isOnSurface() && r.shape >= 0) throw fail("its light vertex does not match the scene");
         } else if (i + 1 == n) {

@@ -87,6 +87,13 @@ Spectrum PathVertex::Le(const Scene& scene, const PathVertex& toward) const {
 }
 
 double geometryTerm(const PathVertex& a, const PathVertex& b) {
+    // A vertex at infinity is a direction, measured in solid angle: the edge to it keeps the cosine at
+    // the finite end alone (the measure of pdfLight and convertDensity).
+    if (a.infinite || b.infinite) {
+        const PathVertex& finite = a.infinite ? b : a;
+        if (a.infinite && b.infinite) return 0;
+        return finite.isOnSurface() ? std::abs(dot(finite.si.ng, a.directionTo(b))) : 1.0;
+    }
     const Vec3 d = b.si.p - a.si.p;
     const double dist2 = lengthSquared(d);
     if (!(dist2 > 0)) return 0;
@@ -110,6 +117,17 @@ bool visible(const Scene& scene, const PathVertex& a, const PathVertex& b) {
     const RayEndpoint ea = a.isOnSurface() ? a.si.endpoint() : RayEndpoint{a.si.p, {}, 0};
     if (b.infinite) return escapes(scene, ea, a.directionTo(b));
     return unoccluded(scene, ea, b.isOnSurface() ? b.si.endpoint() : RayEndpoint{b.si.p, {}, 0});
+}
+
+PathVertex environmentVertex(const Scene& scene, const Vec3& origin, const Vec3& dir) {
+    PathVertex v;
+    v.type = VertexType::Light;
+    v.infinite = true;
+    v.emitterIndex = scene.environmentEmitters.front();
+    v.emitter = scene.emitters[size_t(v.emitterIndex)].get();
+    v.si.ng = -dir;
+    v.si.p = scene.sceneDisk().beyond(origin, dir);
+    return v;
 }
 
 PathVertex surfaceVertex(const Scene& scene, const SurfaceInteraction& si) {

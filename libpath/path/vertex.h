@@ -85,6 +85,12 @@ void setSurfaceVertex(const Scene& scene, SurfaceInteraction&& si, PathVertex& v
 [[nodiscard]] PathVertex lightVertexAt(const Scene& scene, size_t index, const Vec3& p, const Vec3& nOrTravel,
                                        uint32_t prim, const Vec2& coords);
 
+// The vertex at infinity where a ray from `origin` along `dir` (unit) leaves the scene: the environment as
+// one light (Le and the densities sum over every environment emitter; the first names it), travelling
+// along -dir, its position a point beyond the scene's bounding sphere. Only for scenes with an environment
+// emitter.
+[[nodiscard]] PathVertex environmentVertex(const Scene& scene, const Vec3& origin, const Vec3& dir);
+
 // The light vertex of a direct (next-event) sample: the point sampleDirect chose on emitter `index`,
 // with its throughput value / (pdf * selection probability) and its emission-origin density. BDPT's
 // s = 1 strategy and the path tracer's next-event estimation both start from it.

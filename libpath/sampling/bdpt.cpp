@@ -82,11 +82,7 @@ void Bdpt::randomWalk(Ray ray, Spectrum beta, double pdfDir, SampleGenerator& sa
         if (!hit) {
             // An escaped camera path ends on the environment, if there is one (s = 0 strategies).
             if (mode == Transport::Radiance && !scene_.environmentEmitters.empty()) {
-                PathVertex v;
-                v.type = VertexType::Light;
-                v.infinite = true;
-                v.si.ng = -ray.d; // the direction the light travels
-                v.si.p = ray.o + ray.d * (2 * scene_.sceneRadius() + length(ray.o - scene_.bounds.center()));
+                PathVertex v = environmentVertex(scene_, ray.o, ray.d);
                 v.beta = beta;
                 v.pdfFwd = pdfFwd; // solid angle: an environment vertex has no area
                 path.push_back(v);

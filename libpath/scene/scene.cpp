@@ -36,12 +36,12 @@ void Scene::finalize() {
     }
     if (!bounds.valid()) bounds.expand(Vec3(0, 0, 0));
     accel_.build(shapes, include);
-    const double radius = sceneRadius();
+    const SceneDisk disk = sceneDisk();
     std::vector<double> power;
     environmentEmitters.clear();
     for (auto& e : emitters) {
         if (e->isInfinite() && !(e->flags() & EmitterDeltaDirection)) environmentEmitters.push_back(int(&e - &emitters[0]));
-        e->setSceneBounds(bounds.center(), radius);
+        e->setSceneBounds(disk.center, disk.radius);
         power.push_back(std::max(0.0, e->power().luminance()));
     }
     emitterSelection = DiscreteDistribution(power);

@@ -12,6 +12,7 @@
 #include "scene/accel.h"
 #include "scene/camera.h"
 #include "scene/emitter.h"
+#include "scene/emitters/scene_disk.h"
 #include "scene/shape.h"
 
 namespace lt {
@@ -50,6 +51,8 @@ public:
     // directional emitters start their light paths on a disk of this radius.
     Bounds3 bounds;
     [[nodiscard]] double sceneRadius() const { return std::max(0.5 * bounds.diagonal(), 1e-3); }
+    // The disk those paths start on (emitters/scene_disk.h), the one every infinite emitter was given.
+    [[nodiscard]] SceneDisk sceneDisk() const { return {bounds.center(), sceneRadius()}; }
 
     // Choose an emitter in proportion to its power (luminance).
     DiscreteDistribution emitterSelection;

@@ -88,7 +88,7 @@ check "bidirectional,manifold: exit 0, walk columns" \
 check "bidirectional,manifold: lambda and the walk figures stored" '"$bin/lt-inspect" "$tmp/me.lts" | grep -q "lambda" && "$bin/lt-inspect" "$tmp/me.lts" | grep -q "walks.manifold"'
 # HSLT: its walk figures (Table 3 of the paper) printed and stored, its parameters in INFO.
 "$bin/lt-mutate" "$src/scenes/cornell-spheres/scene.xml" --resolution 16x16 --strategies bidirectional,hslt \
-    --hslt-gamma 0.2 --hslt-stratify 0.05 --mutations 20000 --chains 8 --startup-samples 2000 -o "$tmp/hs.lts" \
+    --hslt-gamma 0.2 --hslt-stratify 0.05 --hslt-jumps on --mutations 20000 --chains 8 --startup-samples 2000 -o "$tmp/hs.lts" \
     2> "$tmp/hs-err"; code=$?
 check "bidirectional,hslt: exit 0, walk figures with projection orders and acceptance by length" \
     '[ $code -eq 0 ] && grep -q "^hslt" "$tmp/hs-err" && grep -q "projected from the eye / light" "$tmp/hs-err" &&

@@ -25,16 +25,20 @@ bool connectible(const PathVertex& v) {
 // light that can move and at least the light vertex in the range.
 int lowestStart(bool lightMovable, int kd) { return lightMovable && kd >= 2 ? -1 : 0; }
 
+// A light vertex the mutation can sample anew: on an area emitter, or a direction of the environment (a
+// point or spot light's position and a directional light's direction are deltas: never re-sampled).
+bool movableEmitter(const Emitter& e) { return e.shape >= 0 || (e.isInfinite() && !e.isDelta()); }
+
 } // namespace
 
 BidirectionalMutation::BidirectionalMutation(const Scene& scene, int maxEdges)
     : scene_(scene), maxEdges_(maxEdges), sensor_(scene.camera) {
     for (size_t i = 0; i < scene.emitters.size(); ++i)
-        if (scene.emitters[i]->shape >= 0) areaEmitterMass_ += scene.emitterSelection.pmf(i);
+        if (movableEmitter(*scene.emitters[i])) movableEmitterMass_ += scene.emitterSelection.pmf(i);
 }
 
 bool BidirectionalMutation::lightMovable(const MarkovPath& path) const {
-    return areaEmitterMass_ > 0 && path.v[0].emitter && path.v[0].emitter->shape >= 0;
+    return movableEmitterMass_ > 0 && path.v[0].emitter && movableEmitter(*path.v[0].emitter);
 }
 
 double BidirectionalMutation::deletedProbability(int k, bool lightMovable, int kd) const {
@@ -76,8 +80,8 @@ double BidirectionalMutation::newVertexDensity(const MarkovPath& path, int lo, i
         if (c == 0 || (connectible(v[size_t(c) - 1]) && connectible(v[size_t(c)]))) {
             p = 1;
             for (int i = lo; i < c && p > 0; ++i)
-                p *=
-                    i == 0 ? densityFromLight(scene_, v, 0) / areaEmitterMass_ : densityFromLight(scene_, v, size_t(i));
+                p *= i == 0 ? densityFromLight(scene_, v, 0) / movableEmitterMass_
+                            : densityFromLight(scene_, v, size_t(i));
             for (int i = c; i <= hi && p > 0; ++i)
                 p *= densityFromEye(scene_, sensor_, v, size_t(i));
         }
@@ -128,22 +132,37 @@ void BidirectionalMutation::propose(const MarkovPath& x, Pcg32& rng, Proposal& o
     double sampled = 1;
     for (int i = 0; i < s; ++i) {
         if (light.empty()) {
-            // The light vertex anew, on an area emitter.
+            // The light vertex anew: a point on an area emitter, or a direction of the environment (in
+            // solid angle, as densityFromLight has it; the edge to it then needs no direction from x_1).
             const size_t index = scene_.emitterSelection.sample(rng.nextDouble());
             const Emitter& e = *scene_.emitters[index];
-            if (e.shape < 0) return fail(RejectCause::ZeroContribution);
+            if (!movableEmitter(e)) return fail(RejectCause::ZeroContribution);
             const Vec2 uPos(rng.nextDouble(), rng.nextDouble()), uDir(rng.nextDouble(), rng.nextDouble());
             const EmissionSample es = e.sampleEmission(uPos, uDir);
-            if (!(es.pdfPos > 0)) return fail(RejectCause::ZeroContribution);
-            light.push_back(lightVertexAt(scene_, index, es.p, es.n, es.prim, es.coords));
-            sampled *= scene_.emitterSelection.pmf(index) / areaEmitterMass_ * es.pdfPos;
+            if (!(es.pdfPos > 0) || !(es.pdfDir > 0)) return fail(RejectCause::ZeroContribution);
+            const double pmf = scene_.emitterSelection.pmf(index) / movableEmitterMass_;
+            if (e.isInfinite()) {
+                light.push_back(environmentVertex(scene_, scene_.sceneDisk().center, -es.d));
+                sampled *= pmf * es.pdfDir;
+            } else {
+                light.push_back(lightVertexAt(scene_, index, es.p, es.n, es.prim, es.coords));
+                sampled *= pmf * es.pdfPos;
+            }
             continue;
         }
         PathVertex& from = light.back();
         Vec3 dir;
         double pdfArea = 0;
         std::optional<PathVertex> next;
-        if (light.size() == 1) {
+        if (light.size() == 1 && from.infinite) {
+            // Emission from a direction of the environment: the light keeps its direction and enters at a
+            // point uniform on the scene's disk across it (the density pdfLight gives).
+            next =
+                traceVertex(scene_, Ray{scene_.sceneDisk().sample(Vec2(rng.nextDouble(), rng.nextDouble()), from.si.ng),
+                                        from.si.ng});
+            if (!next) return fail(RejectCause::ZeroContribution);
+            pdfArea = from.pdfLight(scene_, *next);
+        } else if (light.size() == 1) {
             // Emission from the light vertex: its direction law (cosine for area emitters) around its own
             // normal, drawn from the emitter's sampler and carried into this vertex's frame.
             const Vec2 uPos(rng.nextDouble(), rng.nextDouble()), uDir(rng.nextDouble(), rng.nextDouble());
@@ -172,8 +191,10 @@ void BidirectionalMutation::propose(const MarkovPath& x, Pcg32& rng, Proposal& o
         PathVertex& from = eye.back();
         std::optional<PathVertex> next;
         double pdfArea = 0;
+        // The last eye-side vertex of a path whose light vertex is re-sampled from the eye may be the sky.
+        const bool escape = light.empty() && i + 1 == t;
         if (from.type == VertexType::Camera) {
-            auto traced = traceFromCamera(scene_, sensor_, from, rng);
+            auto traced = traceFromCamera(scene_, sensor_, from, rng, escape);
             if (!traced) return fail(RejectCause::ZeroContribution);
             next = std::move(traced->v);
             pdfArea = traced->density;
@@ -185,7 +206,7 @@ void BidirectionalMutation::propose(const MarkovPath& x, Pcg32& rng, Proposal& o
             const auto bs =
                 sampleScattering(from, wEye, Transport::Radiance, uLobe, Vec2(rng.nextDouble(), rng.nextDouble()));
             if (!bs) return fail(RejectCause::ZeroContribution);
-            next = traceVertex(scene_, rayFrom(from, bs->wo));
+            next = traceOrEscape(scene_, rayFrom(from, bs->wo), escape);
             if (!next) return fail(RejectCause::ZeroContribution);
             if (from.delta) {
                 // The light-to-eye delta differs from the sampled one by R_imp / weight_rad (markov_path.h).
@@ -202,8 +223,10 @@ void BidirectionalMutation::propose(const MarkovPath& x, Pcg32& rng, Proposal& o
     // 3. Join: the eye side reached the light (l = -1, s = 0), or a deterministic connection.
     if (light.empty()) {
         PathVertex& end = eye.back();
-        if (!end.emitter || end.emitter->shape < 0) return fail(RejectCause::ZeroContribution);
-        end = lightVertexAt(scene_, size_t(end.emitterIndex), end.si.p, end.si.ng, end.si.prim, end.si.coords);
+        if (!end.infinite) {
+            if (!end.emitter || end.emitter->shape < 0) return fail(RejectCause::ZeroContribution);
+            end = lightVertexAt(scene_, size_t(end.emitterIndex), end.si.p, end.si.ng, end.si.prim, end.si.coords);
+        }
     } else {
         light.back().delta = false;
         eye.back().delta = false;

@@ -7,7 +7,9 @@
 // Proposal (lt's choice; Mitsuba uses two-tailed geometric laws of the same shape):
 // * kd edges deleted, P(kd) proportional to 2^-|kd - 2| on the admissible kd;
 // * the range start l uniform over its admissible values; l = -1 deletes the light vertex too (it is
-//   then re-sampled on an area emitter; a point light's position is never re-sampled);
+//   then re-sampled on an area emitter or as a direction of the environment, from the light side or by
+//   an eye subpath that hits the emitter or escapes to the sky; a point light's position and a
+//   directional light's direction are never re-sampled);
 // * ka edges added, P(ka) proportional to 2^-|ka - kd|, |ka - kd| <= 8, within the maximum length;
 // * the split s uniform in [0, ka - 1].
 // T(x -> y) sums over every split that could have produced y (the same y comes from any of them); the
@@ -34,7 +36,7 @@ public:
     // density of split `split`.
     [[nodiscard]] double newVertexDensity(const MarkovPath& path, int lo, int hi, int split = -1,
                                           double* splitDensity = nullptr) const;
-    // Whether the light vertex of a path may be re-sampled (it lies on an area emitter).
+    // Whether the light vertex of a path may be re-sampled (on an area emitter, or the environment).
     [[nodiscard]] bool lightMovable(const MarkovPath& path) const;
 
 private:
@@ -44,7 +46,7 @@ private:
     const Scene& scene_;
     int maxEdges_;
     SensorWindow sensor_;
-    double areaEmitterMass_ = 0; // selection probability of the area emitters together
+    double movableEmitterMass_ = 0; // selection probability of the emitters whose vertex can move (area, environment)
 };
 
 } // namespace lt

@@ -12,13 +12,18 @@
 namespace lt {
 
 // A new eye-side vertex seen from the camera vertex through a raster position uniform over the sensor
-// window, and its density in the area measure (markov_path.h's densityFromEye at k - 1); nothing when
-// the ray escapes.
+// window, and its density in the area measure (markov_path.h's densityFromEye at k - 1); when the ray
+// escapes, nothing, or with `escape` on a scene with an environment, the environment's vertex with its
+// density in solid angle.
 struct TracedVertex {
     PathVertex v;
     double density = 0;
 };
 [[nodiscard]] std::optional<TracedVertex> traceFromCamera(const Scene& scene, const SensorWindow& sensor,
-                                                          const PathVertex& camera, Pcg32& rng);
+                                                          const PathVertex& camera, Pcg32& rng, bool escape = false);
+
+// The vertex `ray` (unit direction) reaches: the surface it hits, or with `escape` on a scene with an
+// environment, the environment's vertex (path/vertex.h); nothing otherwise.
+[[nodiscard]] std::optional<PathVertex> traceOrEscape(const Scene& scene, const Ray& ray, bool escape);
 
 } // namespace lt

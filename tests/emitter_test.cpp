@@ -11,8 +11,6 @@
 #include <unistd.h>
 #include <vector>
 
-#include <OpenImageIO/imageio.h>
-
 #include "math/constants.h"
 #include "math/error.h"
 #include "math/rng.h"
@@ -367,15 +365,6 @@ struct TempDir {
     ~TempDir() { std::filesystem::remove_all(path); }
 };
 
-void writeExr(const std::string& filename, int w, int h, const std::vector<float>& rgb) {
-    auto out = OIIO::ImageOutput::create(filename);
-    REQUIRE(out);
-    const OIIO::ImageSpec spec(w, h, 3, OIIO::TypeDesc::FLOAT);
-    REQUIRE(out->open(filename, spec));
-    REQUIRE(out->write_image(OIIO::TypeDesc::FLOAT, rgb.data()));
-    REQUIRE(out->close());
-}
-
 } // namespace
 
 TEST_CASE("envmap emitter", "[emitter]") {
@@ -395,7 +384,7 @@ TEST_CASE("envmap emitter", "[emitter]") {
     set(0, 15, 0, 3, 0);
     set(16, 15, 0, 0, 4);
     const std::string file = (tmp.path / "sky.exr").string();
-    writeExr(file, W, H, rgb);
+    test::writeRgbExr(file, W, H, rgb);
 
     SECTION("Mitsuba's lat-long mapping: +y is row 0, u = atan2(x, -z) / 2 pi") {
         const auto e = makeEnvmapEmitter(file, Transform(), 2.0);
@@ -436,7 +425,7 @@ TEST_CASE("envmap emitter", "[emitter]") {
         std::vector<float> flat(16 * 8 * 3);
         for (size_t i = 0; i < flat.size(); i += 3) flat[i] = 0.5f, flat[i + 1] = 0.25f, flat[i + 2] = 1.0f;
         const std::string flatFile = (tmp.path / "flat.exr").string();
-        writeExr(flatFile, 16, 8, flat);
+        test::writeRgbExr(flatFile, 16, 8, flat);
         const auto env = makeEnvmapEmitter(flatFile, Transform(), 1.0);
         const auto cst = makeConstantEmitter(L);
         env->setSceneBounds({0, 0, 0}, 2);
@@ -458,13 +447,13 @@ TEST_CASE("envmap emitter", "[emitter]") {
         std::vector<float> bad = rgb;
         bad[(size_t(2) * W + 3) * 3 + 1] = std::nanf("");
         const std::string nanFile = (tmp.path / "nan.exr").string();
-        writeExr(nanFile, W, H, bad);
+        test::writeRgbExr(nanFile, W, H, bad);
         CHECK_THROWS_WITH(makeEnvmapEmitter(nanFile, Transform(), 1.0), nanFile + ": pixel (3, 2) is NaN or infinite");
         const std::string missing = (tmp.path / "missing.exr").string();
         CHECK_THROWS_WITH(makeEnvmapEmitter(missing, Transform(), 1.0), missing + ": file not found");
         std::vector<float> black(8 * 4 * 3, 0.0f);
         const std::string blackFile = (tmp.path / "black.exr").string();
-        writeExr(blackFile, 8, 4, black);
+        test::writeRgbExr(blackFile, 8, 4, black);
         CHECK_THROWS_WITH(makeEnvmapEmitter(blackFile, Transform(), 1.0),
                           blackFile + ": the environment map is completely black");
     }

@@ -1,6 +1,7 @@
 // Helpers shared by the tests: temporary directories and files, paths of the shipped scenes.
 #pragma once
 
+#include <catch2/catch.hpp>
 #include <unistd.h>
 
 #include <filesystem>
@@ -8,6 +9,9 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
+
+#include <OpenImageIO/imageio.h>
 
 #include "math/error.h"
 
@@ -52,6 +56,16 @@ inline std::string errorOf(const std::function<void()>& f) {
         return e.what();
     }
     return "(no error)";
+}
+
+// An RGB float EXR of w x h pixels, rows top to bottom (an envmap or a reference for a test).
+inline void writeRgbExr(const std::string& filename, int w, int h, const std::vector<float>& rgb) {
+    auto out = OIIO::ImageOutput::create(filename);
+    REQUIRE(out);
+    const OIIO::ImageSpec spec(w, h, 3, OIIO::TypeDesc::FLOAT);
+    REQUIRE(out->open(filename, spec));
+    REQUIRE(out->write_image(OIIO::TypeDesc::FLOAT, rgb.data()));
+    REQUIRE(out->close());
 }
 
 // A convex diffuse sphere (radius 1, albedo 0.7) under a uniform sky of radiance 2, seen from 5 away at

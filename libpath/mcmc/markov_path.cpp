@@ -88,8 +88,6 @@ MarkovPath pathFromRecord(const Scene& scene, const file::PathRecord& record, si
     const std::string name = "seed path " + std::to_string(index);
     MarkovPath path;
     path.v = verticesFromRecord(scene, record, name);
-    if (path.v.front().infinite && path.v.front().isDeltaLight())
-        throw Error(name + ": starts on a directional emitter, which path-space chains do not handle yet");
     if (const auto why = evaluatePath(scene, path))
         throw Error(name + ": carries no light in this scene (" + rejectCauseName(*why) + ")");
     return path;
@@ -112,6 +110,8 @@ file::PathRecord toPathRecord(const Scene& scene, const MarkovPath& path, uint64
 }
 
 double densityFromLight(const Scene& scene, const std::vector<PathVertex>& v, size_t i) {
+    // A directional light's direction is a delta: choosing the emitter is all there is to it.
+    if (i == 0 && v[0].infinite && v[0].isDeltaLight()) return scene.emitterSelection.pmf(size_t(v[0].emitterIndex));
     if (i == 0) return v[0].pdfLightOrigin(scene, v[1]);
     if (i == 1) return v[0].pdfLight(scene, v[1]);
     const PathVertex& from = v[i - 1];

@@ -67,8 +67,9 @@ struct ManifoldVertex;
 // surface re-created there), keeping the lobe it scattered by and whether that was a delta.
 void moveVertex(const Scene& scene, const ManifoldVertex& m, PathVertex& v);
 
-// Densities of re-sampling vertex i (delta-stripped, area measure; BDPT's pdf_fwd / pdf_rev):
-// from the light side (i = 0: choosing the light point; i = 1: emission from v[0]; otherwise scattering at
+// Densities of re-sampling vertex i (delta-stripped, area measure, or solid angle for a light vertex at
+// infinity; BDPT's pdf_fwd / pdf_rev): from the light side (i = 0: choosing the light point or the sky's
+// direction, a directional light's choice alone; i = 1: emission from v[0]; otherwise scattering at
 // v[i-1] given v[i-2]) and from the eye side (scattering at v[i+1] given v[i+2]; i = k - 1: the camera
 // ray, uniform over the sensor window). Zero where the vertex cannot be sampled that way.
 [[nodiscard]] double densityFromLight(const Scene& scene, const std::vector<PathVertex>& v, size_t i);

@@ -74,6 +74,8 @@ double PathVertex::pdfLightOrigin(const Scene& scene, const PathVertex& next) co
 }
 
 Spectrum PathVertex::Le(const Scene& scene, const PathVertex& toward) const {
+    // A directional light's vertex: its one direction, the delta stripped.
+    if (infinite && emitter && (emitter->flags() & EmitterDeltaDirection)) return emitter->irradiance();
     if (infinite) {
         Spectrum sum;
         for (int e : scene.environmentEmitters)

@@ -54,7 +54,8 @@ struct PathVertex {
     // For a light vertex: the density of choosing this light and this point on it (area; for the
     // environment, the solid-angle density of choosing its direction), given the vertex it shines on.
     [[nodiscard]] double pdfLightOrigin(const Scene& scene, const PathVertex& next) const;
-    // Radiance this (emitting) vertex sends toward `toward` (the intensity of a point or spot light).
+    // Radiance this (emitting) vertex sends toward `toward` (the intensity of a point or spot light, the
+    // irradiance of a directional light).
     [[nodiscard]] Spectrum Le(const Scene& scene, const PathVertex& toward) const;
 
     // Convert a solid-angle density at this vertex into the density of `next` (area, or kept in solid

@@ -79,6 +79,10 @@ public:
         (void)p, (void)n, (void)d;
         return {};
     }
+    // Irradiance of a delta-direction emitter (directional) on a surface perpendicular to its direction;
+    // zero for the others. A path starting at such an emitter carries it where an environment carries
+    // radiance (the direction's delta stripped, as pdfDirect's "counts as 1").
+    [[nodiscard]] virtual Spectrum irradiance() const { return {}; }
     // Radiance arriving from an infinite emitter along -dir (dir points from the scene toward the sky).
     [[nodiscard]] virtual Spectrum evalEnvironment(const Vec3& dir) const {
         (void)dir;

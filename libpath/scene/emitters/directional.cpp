@@ -52,6 +52,8 @@ public:
         pdfDir = 1;
     }
 
+    [[nodiscard]] Spectrum irradiance() const override { return irradiance_; }
+
     // The power crossing the scene's bounding disk (pbrt-v3 DistantLight::Power).
     [[nodiscard]] Spectrum power() const override { return irradiance_ * disk_.area(); }
 

@@ -222,8 +222,9 @@ TEST_CASE("path-space MLT under a uniform environment: a convex diffuse sphere h
 TEST_CASE("path-space MLT under a directional light: a diffuse plane has radiance rho / pi E cos(theta)", "[mcmc]") {
     // A diffuse plane (albedo 0.5) filling the view, lit by a directional light of irradiance 3 arriving
     // 30 degrees off its normal: every pixel sees 0.5 / pi * 3 * cos 30 deg. The light vertex is the
-    // light's one direction (its delta stripped): never moved, x_1 re-sampled on the scene disk along it
-    // (bidirectional) or moved by the lens perturbation and joined to it. 8 independent runs.
+    // light's one direction (its delta stripped): never moved, x_1 re-sampled on the scene disk along it.
+    // The image's mean is b by construction (each state deposits b); the chains' distribution shows in
+    // its quadrants, each of which must see the same radiance. 8 independent runs.
     test::TempDir dir;
     auto scene = loadScene(dir.write("sun.xml", R"(<scene version="0.5.0">
   <sensor type="perspective"><float name="fov" value="40"/>
@@ -236,13 +237,19 @@ TEST_CASE("path-space MLT under a directional light: a diffuse plane has radianc
     <bsdf type="diffuse"><rgb name="reflectance" value="0.5"/></bsdf></shape>
 </scene>)"));
     const double expected = 0.5 / Pi * 3 * std::sqrt(3.0) / 2;
-    for (const std::string mix : {"bidirectional", "bidirectional,lens"}) {
-        INFO(mix);
-        std::vector<double> means;
-        for (uint64_t seed = 0; seed < 8; ++seed)
-            means.push_back(imageMean(runPathMix(*scene, mix, 2, 32 * 32 * 64, seed), 1));
-        const auto m = meanAndError(means);
-        INFO(m.mean << " +- " << m.error << ", expected " << expected);
+    std::vector<std::vector<double>> quadrants(4);
+    for (uint64_t seed = 0; seed < 8; ++seed) {
+        const auto img = runPathMix(*scene, "bidirectional", 2, 32 * 32 * 64, seed);
+        std::vector<double> q(4, 0.0);
+        for (int y = 0; y < 32; ++y)
+            for (int x = 0; x < 32; ++x)
+                q[size_t((y / 16) * 2 + x / 16)] += img[3 * size_t(y * 32 + x) + 1] / 256;
+        for (size_t k = 0; k < 4; ++k)
+            quadrants[k].push_back(q[k]);
+    }
+    for (size_t k = 0; k < 4; ++k) {
+        const auto m = meanAndError(quadrants[k]);
+        INFO("quadrant " << k << ": " << m.mean << " +- " << m.error << ", expected " << expected);
         CHECK(std::abs(m.mean - expected) < 5 * m.error + 1e-6 * expected);
         CHECK(m.error < 0.02 * expected);
     }
@@ -277,6 +284,31 @@ TEST_CASE("path-space MLT under an envmap converges to BDPT", "[mcmc]") {
     checkAgainstBdpt(*scene, 4, 8,
                      {{"bidirectional", pathRuns(*scene, "bidirectional", 4)},
                       {"bidirectional,lens", pathRuns(*scene, "bidirectional,lens", 4)}});
+}
+
+TEST_CASE("path-space MLT with an area light and a point light under a sky converges to BDPT", "[mcmc]") {
+    // The bidirectional mutation re-samples the light vertex on the area light or the sky only (a point
+    // light's position stays): its light-side densities and the eye side's must be the true ones, the
+    // emitter chosen among the movable ones, or the splits are weighed wrong against each other. (The
+    // earlier draw among all emitters, failing on the point light while the densities divided by the
+    // movable ones' share, about a third here, stayed below this test's resolution: one split dominates
+    // T in both directions on these paths.)
+    test::TempDir dir;
+    auto scene = loadScene(dir.write("mixed.xml", R"(<scene version="0.5.0">
+  <sensor type="perspective"><float name="fov" value="50"/>
+    <transform name="toWorld"><lookat origin="0,2,5" target="0,0.5,0" up="0,1,0"/></transform>
+    <film type="hdrfilm"><integer name="width" value="24"/><integer name="height" value="24"/></film>
+  </sensor>
+  <emitter type="constant"><rgb name="radiance" value="0.3"/></emitter>
+  <emitter type="point"><point name="position" x="1.5" y="2" z="1"/><rgb name="intensity" value="60"/></emitter>
+  <shape type="rectangle"><transform name="toWorld"><scale value="0.3"/><rotate x="1" angle="90"/><translate x="-1" y="2.5" z="0"/></transform>
+    <emitter type="area"><rgb name="radiance" value="15"/></emitter></shape>
+  <shape type="rectangle"><transform name="toWorld"><scale value="4"/><rotate x="1" angle="-90"/></transform>
+    <bsdf type="diffuse"><rgb name="reflectance" value="0.6"/></bsdf></shape>
+  <shape type="sphere"><point name="center" x="0" y="0.8" z="0"/><float name="radius" value="0.8"/>
+    <bsdf type="diffuse"><rgb name="reflectance" value="0.8"/></bsdf></shape>
+</scene>)"));
+    checkAgainstBdpt(*scene, 4, 8, {{"bidirectional", pathRuns(*scene, "bidirectional", 4)}});
 }
 
 TEST_CASE("path-space MLT on glossy-sky (a constant environment and an area light) converges to BDPT", "[mcmc]") {

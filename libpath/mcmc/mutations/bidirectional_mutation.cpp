@@ -33,8 +33,10 @@ bool movableEmitter(const Emitter& e) { return e.shape >= 0 || (e.isInfinite() &
 
 BidirectionalMutation::BidirectionalMutation(const Scene& scene, int maxEdges)
     : scene_(scene), maxEdges_(maxEdges), sensor_(scene.camera) {
+    std::vector<double> weights(scene.emitters.size(), 0.0);
     for (size_t i = 0; i < scene.emitters.size(); ++i)
-        if (movableEmitter(*scene.emitters[i])) movableEmitterMass_ += scene.emitterSelection.pmf(i);
+        if (movableEmitter(*scene.emitters[i])) movableEmitterMass_ += weights[i] = scene.emitterSelection.pmf(i);
+    movableSelection_ = DiscreteDistribution(weights);
 }
 
 bool BidirectionalMutation::lightMovable(const MarkovPath& path) const {
@@ -134,13 +136,17 @@ void BidirectionalMutation::propose(const MarkovPath& x, Pcg32& rng, Proposal& o
         if (light.empty()) {
             // The light vertex anew: a point on an area emitter, or a direction of the environment (in
             // solid angle, as densityFromLight has it; the edge to it then needs no direction from x_1).
-            const size_t index = scene_.emitterSelection.sample(rng.nextDouble());
+            // The emitter is chosen among the movable ones only, with the probability newVertexDensity
+            // gives (pmf / movableEmitterMass_): a draw among all that failed on a point light would make
+            // the light-side splits' true density pmf, not pmf / mass, against the eye-side split's.
+            if (movableSelection_.empty()) return fail(RejectCause::ZeroContribution);
+            const size_t index = movableSelection_.sample(rng.nextDouble());
             const Emitter& e = *scene_.emitters[index];
             if (!movableEmitter(e)) return fail(RejectCause::ZeroContribution);
             const Vec2 uPos(rng.nextDouble(), rng.nextDouble()), uDir(rng.nextDouble(), rng.nextDouble());
             const EmissionSample es = e.sampleEmission(uPos, uDir);
             if (!(es.pdfPos > 0) || !(es.pdfDir > 0)) return fail(RejectCause::ZeroContribution);
-            const double pmf = scene_.emitterSelection.pmf(index) / movableEmitterMass_;
+            const double pmf = movableSelection_.pmf(index);
             if (e.isInfinite()) {
                 light.push_back(environmentVertex(scene_, scene_.sceneDisk().center, -es.d));
                 sampled *= pmf * es.pdfDir;

@@ -16,6 +16,7 @@
 // reverse move deletes the new range and re-adds kd edges.
 #pragma once
 
+#include "math/distribution.h"
 #include "mcmc/mutation.h"
 
 namespace lt {
@@ -47,6 +48,7 @@ private:
     int maxEdges_;
     SensorWindow sensor_;
     double movableEmitterMass_ = 0; // selection probability of the emitters whose vertex can move (area, environment)
+    DiscreteDistribution movableSelection_; // the emitter selection restricted to those emitters
 };
 
 } // namespace lt

@@ -291,8 +291,8 @@ TEST_CASE("path-space MLT with an area light and a point light under a sky conve
     // light's position stays): its light-side densities and the eye side's must be the true ones, the
     // emitter chosen among the movable ones, or the splits are weighed wrong against each other. (The
     // earlier draw among all emitters, failing on the point light while the densities divided by the
-    // movable ones' share, about a third here, stayed below this test's resolution: one split dominates
-    // T in both directions on these paths.)
+    // movable ones' share (the point light holds most of the selection here), stayed below this test's
+    // resolution, with intensity 6 and 60 alike.)
     test::TempDir dir;
     auto scene = loadScene(dir.write("mixed.xml", R"(<scene version="0.5.0">
   <sensor type="perspective"><float name="fov" value="50"/>

@@ -77,9 +77,9 @@ void checkFraming(const PerspectiveCamera& camera, const Vec3& eye, const Patch&
 }
 
 // The scene with the glossy vertex on `glossy` (Glossy's patch unless said), each facet a rough conductor.
-// The light patch, or `emitter` (an <emitter> element) in its place.
+// The light patch, or `emitter` (an <emitter> element) in its place; `extra` elements added.
 std::string tinyScene(const test::TempDir& dir, const std::vector<Facet>& glossy = {Glossy.facet()},
-                      const std::string& emitter = {}) {
+                      const std::string& emitter = {}, const std::string& extra = {}) {
     std::string facets;
     for (const Facet& f : glossy)
         facets += R"(<shape type="rectangle"><transform name="toWorld"><matrix value=")" + f.matrix() +
@@ -103,7 +103,7 @@ std::string tinyScene(const test::TempDir& dir, const std::vector<Facet>& glossy
     <emitter type="area"><rgb name="radiance" value="1"/></emitter>
   </shape>)"
                                           : emitter) +
-                         "\n</scene>");
+                         "\n" + extra + "\n</scene>");
 }
 
 // Bins: the glossy vertex's cell on a Cells x Cells grid over the patch, times the half of the light
@@ -230,6 +230,10 @@ MutationStatistics checkVisits(const Scene& scene, const std::vector<double>& ex
     settings.hsltStratify = 0.1;
     // Its jumps between subspaces on (off by default in lt-mutate): their densities are tested here.
     settings.hsltJumps = true;
+    // The portal perturbation turning edges by up to 0.3 rad (default 2^-4): across bins, and far enough for
+    // the portal's cosine to change by a third.
+    settings.portalMin = 0.01;
+    settings.portalMax = 0.3;
     // Seeds are draws in proportion to f*, so every chain starts in the stationary distribution: no
     // burn-in is discarded.
     PathSettings bdpt;
@@ -475,6 +479,28 @@ TEST_CASE("path-space chains under a directional light visit a tiny path space i
     // The bidirectional mutation re-samples the glossy vertex on the scene's disk along the direction (Veach's
     // perturbations join to the light vertex, which a directional light's is not: they leave these paths).
     checkVisits(*scene, expected, {"bidirectional"}, 2, Everywhere, Glossy, 1, 0, 1);
+}
+
+TEST_CASE("path-space chains with the portal perturbation visit a tiny path space in proportion to f*",
+          "[mcmc][portal]") {
+    // The tiny scene with a portal in the plane z = 0.75 across every light -> glossy edge (its normal 45
+    // degrees off the edges'), none of the camera's: the portal perturbation turns the first edge about its
+    // crossing, moving both the light and the glossy vertex. The portal is not geometry, so f* and its
+    // tabulation are the tiny scene's. Broken on purpose: without the portal cosines in T (the paper's
+    // "R = f / G" read literally) bins and marginals were off by |z| up to 16 and 15, without G by 39 and 35
+    // (correct: below 3).
+    test::TempDir dir;
+    const auto scene = loadScene(tinyScene(dir, {Glossy.facet()}, {}, R"(<shape type="rectangle">
+    <transform name="toWorld"><scale value="1.2"/><translate x="-0.75" z="0.75"/></transform>
+    <boolean name="portal" value="true"/></shape>)"));
+    REQUIRE(scene->hasPortals());
+    const Bsdf& bsdf = *scene->bsdfs[size_t(scene->shapes[0].bsdf)].bsdf;
+    const std::vector<double> expected = tabulateTarget(bsdf, Spectrum(1.0), {Glossy.facet()});
+    // Weighted 8 to 1, so that the portal perturbation's stationary distribution dominates; four times the usual
+    // chain length, as its steps are small against the bins.
+    const auto stats =
+        checkVisits(*scene, expected, {"bidirectional,portal:8"}, 2, Light, Glossy, 1, 0, 0, {"portal"}, 1, 4 * 24576);
+    CHECK(stats[1].rejected[size_t(RejectCause::Missed)] > 0); // turned off the light or the patch
 }
 
 namespace {

@@ -693,6 +693,12 @@ TEST_CASE(
     CHECK(w.chosen[1].weight == 2);
     CHECK(w.chosen[2].weight == 1);
     CHECK(chooseMutations("bidirectional,lens-subpath", glass).chosen[1].name == "lens-subpath");
-    CHECK_THROWS_WITH(chooseMutations("bidirectional,portal", glass), Catch::Contains("not built yet"));
+    CHECK(saysWhy("portal perturbation: "));
+    SceneFeatures window = diffuse;
+    window.hasPortals = true;
+    const auto p = chooseMutations("auto", window);
+    REQUIRE(p.chosen.size() == 3);
+    CHECK(p.chosen[2].name == "portal");
+    CHECK_THROWS_WITH(chooseMutations("bidirectional,portals", glass), Catch::Contains("unknown mutation"));
     CHECK_THROWS_WITH(chooseMutations("lens,caustic", glass), Catch::Contains("bidirectional"));
 }

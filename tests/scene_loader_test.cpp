@@ -101,6 +101,11 @@ TEST_CASE("the scenes shipped in scenes/ load and say what they need", "[loader]
     CHECK(analyzeScene(*c).environmentLight);
     CHECK(analyzeScene(*c).glossySurfaces);
     CHECK(analyzeScene(*c).disks == 1);
+    const auto d = loadScene(test::shippedScene("window-room"));
+    CHECK(analyzeScene(*d).portals == 1);
+    CHECK(analyzeScene(*d).environmentLight);
+    for (const char* name : {"door-ajar", "three-planes"})
+        CHECK(analyzeScene(*loadScene(test::shippedScene(name))).portals == 1);
 }
 
 TEST_CASE("shapes: every kind, with transforms and flipNormals", "[loader]") {

@@ -47,6 +47,7 @@ int main(int argc, char** argv) {
     size_t dumpEvery = 0;
     bool quiet = false;
     std::string hsltJumps = "off";
+    std::vector<double> portalRange = {1.0 / 256, 1.0 / 16};
     std::vector<std::string> defines;
     app.add_option("SCENE", scenePath, "Mitsuba 0.5/0.6 scene (.xml)")->required();
     app.add_option("SEEDS", seedsPath,
@@ -75,6 +76,11 @@ int main(int argc, char** argv) {
                    "it hits (HSLT's jumps between subspaces; off by default: on glossy-rings they left chains stuck "
                    "in the corners where a ring touches the ground, relMSE 4.8 against 0.37 at 120 s)")
         ->check(CLI::IsMember({"on", "off"}));
+    app.add_option("--portal-range", portalRange,
+                   "portal perturbation: the smallest and largest turn of the edge about its crossing, in radians "
+                   "(default 0.00390625,0.0625: 2^-8 and 2^-4, Otsu et al.'s values)")
+        ->expected(2)
+        ->delimiter(',');
     app.add_option("--mutations", mutations, "total mutations over all chains")->check(CLI::PositiveNumber);
     app.add_option("--mutations-per-pixel", mutationsPerPixel, "total mutations as a multiple of the pixel count")
         ->check(CLI::PositiveNumber);
@@ -133,6 +139,10 @@ int main(int argc, char** argv) {
         if (!(hsltGamma > 0)) throw lt::Error("--hslt-gamma must lie in (0, 1], got " + std::to_string(hsltGamma));
         if (!(hsltStratify >= 0))
             throw lt::Error("--hslt-stratify must lie in [0, 1], got " + std::to_string(hsltStratify));
+        if (space != "path" && app.count("--portal-range")) throw lt::Error("--portal-range is for --space path");
+        if (!(portalRange[0] > 0 && portalRange[0] < portalRange[1] && portalRange[1] < lt::Pi / 2))
+            throw lt::Error("--portal-range: need 0 < MIN < MAX < pi/2 radians, got " + std::to_string(portalRange[0]) +
+                            "," + std::to_string(portalRange[1]));
         // CLI11's range check lets NaN through; refuse it before the seeding, not after.
         if (!std::isfinite(lambda))
             throw lt::Error("--lambda must be a positive number, got " + std::to_string(lambda));
@@ -230,6 +240,13 @@ int main(int argc, char** argv) {
                 params["hslt_stratify"] = hsltStratify;
                 params["hslt_jumps"] = hsltJumps == "on";
             }
+            if (std::any_of(choice.chosen.begin(), choice.chosen.end(),
+                            [](const auto& e) { return e.name == "portal"; })) {
+                params["portal_range"] = portalRange;
+                if (!features.hasPortals && !quiet)
+                    std::cerr << "lt-mutate: warning: portal perturbation: " << features.portalReason
+                              << " (it will propose nothing)\n";
+            }
             for (const auto& why : choice.leftOut)
                 if (!quiet) std::cerr << "lt-mutate: left out: " << why << '\n';
             if (!quiet && ps.paths.maxDepth < 0)
@@ -273,6 +290,8 @@ int main(int argc, char** argv) {
             settings.hsltGamma = hsltGamma;
             settings.hsltStratify = hsltStratify;
             settings.hsltJumps = hsltJumps == "on";
+            settings.portalMin = portalRange[0];
+            settings.portalMax = portalRange[1];
             if (usesManifold && features.glossySurfaces) {
                 // ME App. A1: Delta-theta, which sets how often a glossy vertex is treated as specular, is
                 // measured before the chains start and then held (an adaptive chain would not be Markov).

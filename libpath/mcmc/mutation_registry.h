@@ -21,14 +21,15 @@ struct MutationSettings {
     double hsltStratify = 0.02;     // its image-plane step, a fraction of the image (HSLT Sec. 6.2; 0: off)
     bool hsltJumps = false;         // its jumps between subspaces after failed walks (HSLT Sec. 5.2; off:
                                     // pipelines/results/hslt/README.md)
+    // The portal perturbation's direction kernel, theta in [min, max] radians (Otsu et al. Sec. 5: 2^-8, 2^-4).
+    double portalMin = 1.0 / 256, portalMax = 1.0 / 16;
 };
 
 struct MutationKind {
     const char* name;    // --strategies NAME
     const char* noun;    // "mutation" or "perturbation": how messages call it
     const char* summary; // what it moves, for --help
-    // Makes the mutation for a scene; null for a mutation of the papers that lt does not have yet (named
-    // so that asking for it is a clear error).
+    // Makes the mutation for a scene.
     std::unique_ptr<Mutation> (*make)(const Scene& scene, const MutationSettings& settings);
     // Empty when `auto` uses it on a scene with these features; otherwise why auto leaves it out.
     std::string (*autoLeavesOut)(const SceneFeatures& features);

@@ -15,7 +15,7 @@ namespace {
 std::string availableList() {
     std::string list;
     for (const auto& k : mutationKinds())
-        if (k.make) list += (list.empty() ? "" : ", ") + std::string(k.name);
+        list += (list.empty() ? "" : ", ") + std::string(k.name);
     return list;
 }
 
@@ -28,7 +28,6 @@ MutationChoice chooseMutations(const std::string& spec, const SceneFeatures& fea
         // same reason are named together ("caustic, multi-chain perturbations: ...").
         std::vector<std::pair<std::string, std::vector<const MutationKind*>>> groups; // reason, kinds
         for (const auto& k : mutationKinds()) {
-            if (!k.make) continue;
             const std::string why = k.autoLeavesOut(features);
             if (why.empty()) {
                 choice.chosen.push_back({k.name, 1});
@@ -60,8 +59,6 @@ MutationChoice chooseMutations(const std::string& spec, const SceneFeatures& fea
         }
         const MutationKind* kind = findMutationKind(e.name);
         if (!kind) throw Error("--strategies: unknown mutation '" + e.name + "' (available: " + availableList() + ")");
-        if (!kind->make)
-            throw Error("--strategies: '" + e.name + "' is not built yet (available: " + availableList() + ")");
         for (const auto& c : choice.chosen)
             if (c.name == e.name) throw Error("--strategies: '" + e.name + "' given twice");
         choice.chosen.push_back(e);
@@ -86,7 +83,7 @@ std::string mutationsHelp() {
     std::string help = "path-space mutations: auto (every mutation the scene can use; says what it leaves out and "
                        "why) or NAME[:WEIGHT],... (weights default to 1) of:";
     for (const auto& k : mutationKinds())
-        if (k.make) help += std::string("\n  ") + k.name + ": " + k.summary;
+        help += std::string("\n  ") + k.name + ": " + k.summary;
     return help + "\nPrimary spaces have their own two: large step and small step.";
 }
 

@@ -32,6 +32,10 @@ const char* rejectCauseName(RejectCause c) {
         return "walk_failed";
     case RejectCause::NotReversible:
         return "not_reversible";
+    case RejectCause::Missed:
+        return "missed";
+    case RejectCause::SpecularNeighbour:
+        return "specular_neighbour";
     case RejectCause::Count:
         break;
     }
@@ -83,17 +87,27 @@ std::vector<file::StatTable> MutationStatistics::walkTables() const {
 }
 
 std::string MutationStatistics::text() const {
-    // The walk columns only when some strategy walks (the manifold perturbation).
-    bool walks = false;
-    for (const auto& k : counters_)
-        walks = walks || k.rejected[size_t(RejectCause::WalkFailed)] || k.rejected[size_t(RejectCause::NotReversible)];
+    // The causes few strategies meet (manifold walks, portal moves) get a column only when some proposal met them.
+    struct Column {
+        RejectCause cause;
+        const char* title;
+    };
+    std::vector<Column> extra;
+    for (const Column c :
+         {Column{RejectCause::WalkFailed, "walk failed"}, Column{RejectCause::NotReversible, "not reversible"},
+          Column{RejectCause::Missed, "missed"}, Column{RejectCause::SpecularNeighbour, "specular nb"}})
+        for (const auto& k : counters_)
+            if (k.rejected[size_t(c.cause)]) {
+                extra.push_back(c);
+                break;
+            }
     std::string out;
     char line[320];
     std::snprintf(line, sizeof line, "%-16s %12s %9s %10s %10s %9s %9s %9s %9s", "strategy", "proposed", "accepted",
                   "mean a", "zero f", "occluded", "off image", "config", "nonfinite");
     out += line;
-    if (walks) {
-        std::snprintf(line, sizeof line, " %11s %14s", "walk failed", "not reversible");
+    for (const auto& c : extra) {
+        std::snprintf(line, sizeof line, " %14s", c.title);
         out += line;
     }
     out += "   us/prop\n";
@@ -107,9 +121,8 @@ std::string MutationStatistics::text() const {
                       pct(RejectCause::LeftImage), pct(RejectCause::ConfigurationChanged),
                       (unsigned long long)k.rejected[size_t(RejectCause::NonFinite)]);
         out += line;
-        if (walks) {
-            std::snprintf(line, sizeof line, " %10.2f%% %13.2f%%", pct(RejectCause::WalkFailed),
-                          pct(RejectCause::NotReversible));
+        for (const auto& c : extra) {
+            std::snprintf(line, sizeof line, " %13.2f%%", pct(c.cause));
             out += line;
         }
         std::snprintf(line, sizeof line, " %9.2f\n", n > 0 ? 1e6 * k.seconds / n : 0.0);

@@ -22,7 +22,12 @@ enum class RejectCause : int {
     ConfigurationChanged, // a perturbation met a different kind of vertex than the path had
     NonFinite,            // NaN or Inf: dropped and counted (no NaN reaches an output)
     WalkFailed,           // a manifold walk did not reach its target (diverged, TIR, left the surface, singular)
-    NotReversible,        // the walk back from the proposal did not return to the state (ME Sec. 5.1)
+    NotReversible,        // the move back from the proposal could not return to the state: the manifold walk back
+                          // did not (ME Sec. 5.1), or the proposal crosses a portal where the portal perturbation
+                          // would pick another edge or pivot
+    Missed,               // a perturbed ray left the scene, or reached a vertex of another kind than it replaces
+    SpecularNeighbour,    // a vertex the move changes, or a fixed neighbour it connects to, scatters through a
+                          // delta lobe: no nearby path can join them
     Count
 };
 [[nodiscard]] const char* rejectCauseName(RejectCause c);

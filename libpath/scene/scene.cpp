@@ -1,5 +1,7 @@
 #include "scene/scene.h"
 
+#include <algorithm>
+
 namespace lt {
 
 std::optional<SurfaceInteraction> Scene::intersect(const Ray& ray) const {
@@ -36,6 +38,11 @@ void Scene::finalize() {
     }
     if (!bounds.valid()) bounds.expand(Vec3(0, 0, 0));
     accel_.build(shapes, include);
+    std::vector<bool> portal(shapes.size());
+    for (size_t i = 0; i < shapes.size(); ++i)
+        portal[i] = shapes[i].portal;
+    hasPortals_ = std::find(portal.begin(), portal.end(), true) != portal.end();
+    if (hasPortals_) portals_.build(shapes, portal);
     const SceneDisk disk = sceneDisk();
     std::vector<double> power;
     environmentEmitters.clear();

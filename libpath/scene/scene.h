@@ -65,6 +65,12 @@ public:
     // The hit alone (shape, primitive, coordinates, distance), without the differential geometry.
     [[nodiscard]] std::optional<RayHit> intersectHit(const Ray& ray) const { return accel_.intersect(ray); }
     [[nodiscard]] bool occluded(const Ray& ray) const { return accel_.occluded(ray); }
+    // The portals (shapes marked portal: kept out of the geometry above, seen only by the portal
+    // perturbation): where `ray` first crosses one within its extent, over every portal shape.
+    [[nodiscard]] bool hasPortals() const { return hasPortals_; }
+    [[nodiscard]] std::optional<RayHit> intersectPortal(const Ray& ray) const {
+        return hasPortals_ ? portals_.intersect(ray) : std::nullopt;
+    }
     [[nodiscard]] size_t triangleCount() const;
     [[nodiscard]] const Bsdf* bsdfOf(const SurfaceInteraction& si) const;
 
@@ -73,6 +79,8 @@ public:
 
 private:
     EmbreeAccel accel_;
+    EmbreeAccel portals_;
+    bool hasPortals_ = false;
 };
 
 // Load a Mitsuba 0.5/0.6 XML scene (scene/xml_parser.cpp + scene/scene_builder.cpp). Throws lt::Error

@@ -6,10 +6,11 @@
 # manifold perturbation on scenes with specular chains); memlt
 # (path space with the bidirectional mutation and the manifold perturbation, as Jakob & Marschner define
 # MEMLT); hslt (path space with the bidirectional and half-vector mutations, the pairing of Kaplanyan et al.
-# 2014); gpt, gdpr (lt-gradient --method gpt | gdpr, then lt-reconstruct --norm l2, the unbiased one, every
-# snapshot reconstructed) and gpt-l1, gdpr-l1 (the same with --norm l1); the gradient buffer is kept beside the
-# image as gpt.gradient.lts or gdpr.gradient.lts. Methods of tools that do not exist yet are refused by name.
-known_methods="pt bdpt mlt pssmlt mmlt memlt hslt gpt gdpr gpt-l1 gdpr-l1"
+# 2014); mlt-lens and portal (Otsu et al.'s baseline and method: bidirectional : lens = 1 : 1, and
+# bidirectional : (lens : portal = 1 : 1) = 1 : 1); gpt, gdpr (lt-gradient --method gpt | gdpr, then
+# lt-reconstruct --norm l2, the unbiased one, every snapshot reconstructed) and gpt-l1, gdpr-l1 (the same
+# with --norm l1); the gradient buffer is kept beside the image as gpt.gradient.lts or gdpr.gradient.lts. Unknown methods are refused by name.
+known_methods="pt bdpt mlt pssmlt mmlt memlt hslt mlt-lens portal gpt gdpr gpt-l1 gdpr-l1"
 
 render_method() {
   local method="$1" file="$2" time="$3" seed="$4"; shift 4
@@ -24,6 +25,12 @@ render_method() {
     hslt)
       "$bin/lt-mutate" "$scene" --strategies bidirectional,hslt --time "$time" --seed "$seed" --snapshots doubling \
         -o "$file" -q "$@" ;;
+    mlt-lens)
+      "$bin/lt-mutate" "$scene" --strategies bidirectional,lens --time "$time" --seed "$seed" --snapshots doubling \
+        -o "$file" -q "$@" ;;
+    portal)
+      "$bin/lt-mutate" "$scene" --strategies bidirectional:2,lens,portal --time "$time" --seed "$seed" \
+        --snapshots doubling -o "$file" -q "$@" ;;
     gpt|gdpr|gpt-l1|gdpr-l1)
       # One render per estimator and comparison: gpt and gpt-l1 of one run of compare.sh (which touches
       # OUT/.started first) reconstruct the same gradient buffer, each charged its own reconstruction.
@@ -35,13 +42,11 @@ render_method() {
           -o "$gradient" -q "$@"
       fi
       "$bin/lt-reconstruct" "$gradient" --norm "$norm" -o "$file" -q ;;
-    portal)
-      echo "$0: method '$method' needs a part that does not exist yet (the portal perturbation)" >&2; return 1 ;;
     *) echo "$0: unknown method '$method' (known: $known_methods)" >&2; return 1 ;;
   esac
 }
 
-# Refuse unknown or not-yet-available methods before spending any time rendering.
+# Refuse unknown methods before spending any time rendering.
 check_methods() {
   local m
   for m in "$@"; do

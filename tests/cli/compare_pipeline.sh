@@ -19,8 +19,9 @@ check "compare.sh gpt gdpr gdpr-l1: images, one gradient render per estimator, r
   [ -s "$tmp/grad/gpt.png" ] && [ -s "$tmp/grad/gdpr-l1.exr" ] && [ -s "$tmp/grad/gpt.gradient.lts" ] &&
   [ -s "$tmp/grad/gdpr.gradient.lts" ] &&
   grep -q "gdpr-l1.lts *SNAP" "$tmp/grad/error.txt"' || cat "$tmp/glog"
-out=$(bash "$src/pipelines/compare.sh" "$scene" --time 1 --methods "pt portal" --out "$tmp/cmp2" 2>&1); code=$?
-check "compare.sh: a method without its tool is refused by name, before rendering" '[ $code -ne 0 ] && echo "$out" | grep -q "portal" && [ ! -e "$tmp/cmp2/pt.lts" ]'
+out=$(bash "$src/pipelines/compare.sh" "$scene" --time 1 --methods "pt portals" --out "$tmp/cmp2" 2>&1); code=$?
+check "compare.sh: an unknown method is refused by name, before rendering" \
+    '[ $code -ne 0 ] && echo "$out" | grep -q "unknown method .portals." && [ ! -e "$tmp/cmp2/pt.lts" ]'
 bash "$src/pipelines/regions.sh" "$scene" --time 1 --runs 2 --methods "bdpt mmlt" --ref "$tmp/ref.exr" --crop 0,0,8,8 \
     --crop 4,4,8,8 --out "$tmp/reg" > "$tmp/reglog" 2>&1; code=$?
 check "regions.sh: exit 0, a row per method and crop with the ratio to the reference" '[ $code -eq 0 ] &&

@@ -50,8 +50,9 @@ check "Ctrl-C: a complete file with the work done" '[ "$(tail -c 16 "$tmp/int.lt
 
 out=$("$bin/lt-mutate" "$scene" -o "$tmp/x.lts" 2>&1); code=$?
 check "no length given: one error line" '[ $code -ne 0 ] && [ "$(echo "$out" | wc -l)" -eq 1 ]'
-out=$("$bin/lt-mutate" "$scene" --time 1 --strategies bidirectional,portal -o "$tmp/x.lts" 2>&1); code=$?
-check "a strategy not built yet is refused by name" '[ $code -ne 0 ] && echo "$out" | grep -q "not built yet"'
+out=$("$bin/lt-mutate" "$scene" --time 1 --strategies bidirectional,portl -o "$tmp/x.lts" 2>&1); code=$?
+check "an unknown strategy is refused by name, the available ones listed" \
+    '[ $code -ne 0 ] && echo "$out" | grep -q "unknown mutation .portl." && echo "$out" | grep -q "portal"'
 out=$("$bin/lt-mutate" "$scene" --time 1 --strategies bidirectional,manifold --lambda 0 -o "$tmp/x.lts" 2>&1); code=$?
 check "--lambda 0 refused" '[ $code -ne 0 ] && echo "$out" | grep -q lambda'
 out=$("$bin/lt-mutate" "$scene" --time 1 --strategies bidirectional,manifold --lambda nan -o "$tmp/x.lts" 2>&1); code=$?
@@ -116,6 +117,22 @@ check "MEMLT's dumped states: lt-inspect --manifold rebuilds and walks their cha
 check "auto without specular surfaces: caustic, multi-chain and manifold left out, with the reason" \
     'grep -q "left out: caustic, multi-chain perturbations: no delta" "$tmp/auto-err" &&
      grep -q "left out: manifold perturbation: no delta or glossy" "$tmp/auto-err"'
+check "auto without a portal: the portal perturbation left out, with the reason" \
+    'grep -q "left out: portal perturbation: no shape marked portal" "$tmp/auto-err"'
+"$bin/lt-mutate" "$src/scenes/window-room/scene.xml" --resolution 16x12 --strategies auto --portal-range 0.01,0.1 \
+    --mutations 20000 --chains 4 --startup-samples 2000 -o "$tmp/window.lts" 2> "$tmp/window-err"; code=$?
+check "auto on a scene with a portal: the portal perturbation runs, its range stored" \
+    '[ $code -eq 0 ] && grep -q "^portal " "$tmp/window-err" && ! grep -q "left out: portal" "$tmp/window-err" &&
+     "$bin/lt-inspect" "$tmp/window.lts" | grep -q "portal_range"'
+"$bin/lt-mutate" "$scene" --strategies bidirectional,portal --mutations 2000 --chains 4 --startup-samples 500 \
+    -o "$tmp/noportal.lts" 2> "$tmp/noportal-err"; code=$?
+check "the portal perturbation asked for on a scene without a portal: a warning saying it cannot propose" \
+    '[ $code -eq 0 ] && grep -q "warning: portal perturbation: no shape marked portal" "$tmp/noportal-err"'
+for bad in 0.1 0.2,0.1 0,0.1 0.1,2 nan,0.1; do
+    out=$("$bin/lt-mutate" "$scene" --time 1 --portal-range $bad -o "$tmp/x.lts" 2>&1); code=$?
+    check "--portal-range $bad refused before any work, naming the option, no output" \
+        '[ $code -ne 0 ] && echo "$out" | head -1 | grep -q "portal-range" && [ ! -e "$tmp/x.lts" ]'
+done
 "$bin/lt-mutate" "$src/scenes/glossy-caustic/scene.xml" --resolution 16x12 --strategies auto --mutations 20000 \
     --chains 4 --startup-samples 2000 -o "$tmp/glossy.lts" 2> "$tmp/glossy-err"; code=$?
 check "auto on glossy surfaces: the manifold perturbation with its pre-run, printed and stored" \

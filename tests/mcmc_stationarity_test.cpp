@@ -211,12 +211,13 @@ std::vector<double> tabulateTarget(const Bsdf& bsdf, const Spectrum& Le, const s
 // Runs each mix of mutations from BDPT seeds and compares the fraction of states in each region (bins of
 // binOf: vertex halfVertex's half of `light` (the light vertex's, unless said) x the cell of vertex `receiver`, which
 // must lie on shape `receiverShape` (or one of the `receiverShapes` from it) of every path of `edges` edges) with
-// the tabulated probabilities `expected`. Returns the last mix's statistics.
+// the tabulated probabilities `expected`; with `halfByDirection`, the half of `light` its direction toward the sky
+// lies in (a light vertex at infinity). Returns the last mix's statistics.
 MutationStatistics checkVisits(const Scene& scene, const std::vector<double>& expected,
                                const std::vector<std::string>& mixes, int edges, const Patch& light,
                                const Patch& receiverPatch, size_t receiver, int receiverShape, size_t halfVertex = 0,
                                const std::vector<std::string>& mustMove = {}, int receiverShapes = 1,
-                               uint64_t perChain = 24576) {
+                               uint64_t perChain = 24576, bool halfByDirection = false) {
     MutationStatistics last;
     // The manifold perturbation with lambda 5 instead of 50: steps ten times as large, so that each of its
     // stages moves the chains across bins often enough for a wrong factor in it to show.
@@ -267,10 +268,12 @@ MutationStatistics checkVisits(const Scene& scene, const std::vector<double>& ex
                     ++elsewhere;
                     continue;
                 }
-                const auto& p0 = r.vertices[halfVertex].p;
+                const auto& v0 = r.vertices[halfVertex];
                 const auto& p1 = r.vertices[receiver].p;
-                counts[size_t(r.rngStream)]
-                      [size_t(binOf(light, receiverPatch, {p0[0], p0[1], p0[2]}, {p1[0], p1[1], p1[2]}))] += 1;
+                // A light vertex at infinity: its direction toward the sky (against its travel, which ng holds).
+                const Vec3 x0 =
+                    halfByDirection ? Vec3(-v0.ng[0], -v0.ng[1], -v0.ng[2]) : Vec3(v0.p[0], v0.p[1], v0.p[2]);
+                counts[size_t(r.rngStream)][size_t(binOf(light, receiverPatch, x0, {p1[0], p1[1], p1[2]}))] += 1;
             }
         };
         SampleFilm film(scene.camera);
@@ -501,6 +504,61 @@ TEST_CASE("path-space chains with the portal perturbation visit a tiny path spac
     const auto stats =
         checkVisits(*scene, expected, {"bidirectional,portal:8"}, 2, Light, Glossy, 1, 0, 0, {"portal"}, 1, 4 * 24576);
     CHECK(stats[1].rejected[size_t(RejectCause::Missed)] > 0); // turned off the light or the patch
+}
+
+namespace {
+
+// The tiny scene under a constant sky of radiance 1 (a black ground just below the glossy patch fills the
+// rest of the view, so no state sees the sky directly) with a portal over part of the sky: in z = 0.6 over
+// x in [-1.5, 0], |y| <= 1, crossed by the edges that leave the patch up and toward -x. Those the portal
+// perturbation turns about their crossing, the light vertex a direction at infinity; the others only the
+// bidirectional mutation moves. Bins: the glossy cell times the part of the sky the light vertex lies in,
+// x < -0.5 or not (the highlight's mirror direction is x = -0.71: both parts hold much of f*).
+const Patch SkyHalves{{-0.5, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, 1};
+
+// f*(x1, w) = targetValue(f_s(w -> x1 -> eye)) cos(w) G(x1, eye) W_e, by a midpoint rule on Fine x Fine points
+// per patch and a grid uniform in (cos theta, phi) over the upper hemisphere (dw = dcos dphi).
+std::vector<double> tabulateSky(const Bsdf& bsdf) {
+    constexpr int Fine = Cells * 8, CosGrid = 64, PhiGrid = 128;
+    const Vec3 forward = normalize(-Eye);
+    std::vector<double> bins(Bins, 0.0);
+    for (int i = 0; i < Fine; ++i)
+        for (int j = 0; j < Fine; ++j) {
+            const Vec3 x1 = Glossy.at(Glossy.h * (2 * (i + 0.5) / Fine - 1), Glossy.h * (2 * (j + 0.5) / Fine - 1));
+            Vec3 wo;
+            const double eyeFactor = pinholeFactor(x1, Glossy.n, Eye, forward, wo);
+            const Vec3 woLocal(dot(wo, Glossy.u), dot(wo, Glossy.v), dot(wo, Glossy.n));
+            for (int a = 0; a < CosGrid; ++a)
+                for (int b = 0; b < PhiGrid; ++b) {
+                    const double c = (a + 0.5) / CosGrid, phi = 2 * Pi * (b + 0.5) / PhiGrid;
+                    const double sn = std::sqrt(1 - c * c);
+                    const Vec3 w(sn * std::cos(phi), sn * std::sin(phi), c); // toward the sky (Glossy's frame is xyz)
+                    const Spectrum fs = bsdf.eval(w, woLocal, Vec2(0.5, 0.5), Transport::Importance);
+                    bins[size_t(binOf(SkyHalves, Glossy, w, x1))] += targetValue(fs) * c * eyeFactor;
+                }
+        }
+    return normalized(std::move(bins));
+}
+
+} // namespace
+
+TEST_CASE("path-space chains with the portal perturbation under a sky visit a tiny path space in proportion to f*",
+          "[mcmc][portal]") {
+    // The light vertex at infinity: T in the measure of f is p_sigma / |n_portal . w| G with G = |n . w| at the
+    // finite end (solid angle at the sky's end). Broken on purpose: without that cosine (G = 1 for a direction)
+    // bins and marginals were off by |z| up to 15 and 17 (correct: below 3). (The finite form of G toward the
+    // far point where an environment vertex is stored differs from the right one by a nearly constant 1 / d^2
+    // and stays below this test's resolution: largest |z| 3.0, sum of z^2 128.)
+    test::TempDir dir;
+    const auto scene = loadScene(tinyScene(
+        dir, {Glossy.facet()}, R"(<emitter type="constant"><rgb name="radiance" value="1"/></emitter>)",
+        R"(<shape type="rectangle"><transform name="toWorld"><scale value="10"/><translate z="-0.01"/></transform>
+    <bsdf type="diffuse"><rgb name="reflectance" value="0"/></bsdf></shape>
+  <shape type="rectangle"><transform name="toWorld"><scale x="0.75" y="1"/><translate x="-0.75" z="0.6"/></transform>
+    <boolean name="portal" value="true"/></shape>)"));
+    const std::vector<double> expected = tabulateSky(*scene->bsdfs[size_t(scene->shapes[0].bsdf)].bsdf);
+    checkVisits(*scene, expected, {"bidirectional,portal:8"}, 2, SkyHalves, Glossy, 1, 0, 0, {"portal"}, 1, 4 * 24576,
+                true);
 }
 
 namespace {

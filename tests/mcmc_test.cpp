@@ -671,6 +671,7 @@ TEST_CASE(
     "[mcmc]") {
     SceneFeatures diffuse;
     diffuse.specularReason = "no delta BSDF";
+    diffuse.portalReason = "no shape marked portal";
     const auto a = chooseMutations("auto", diffuse);
     REQUIRE(a.chosen.size() == 2);
     CHECK(a.chosen[1].name == "lens");
@@ -685,7 +686,7 @@ TEST_CASE(
     const auto g = chooseMutations("auto", glossy);
     REQUIRE(g.chosen.size() == 3);
     CHECK(g.chosen[2].name == "manifold");
-    SceneFeatures glass;
+    SceneFeatures glass = diffuse;
     glass.specularChains = true;
     CHECK(chooseMutations("auto", glass).chosen.size() == 5);
     CHECK(chooseMutations("auto", glass).chosen[4].name == "manifold");
@@ -693,7 +694,7 @@ TEST_CASE(
     CHECK(w.chosen[1].weight == 2);
     CHECK(w.chosen[2].weight == 1);
     CHECK(chooseMutations("bidirectional,lens-subpath", glass).chosen[1].name == "lens-subpath");
-    CHECK(saysWhy("portal perturbation: "));
+    CHECK(saysWhy("portal perturbation: no shape marked portal"));
     SceneFeatures window = diffuse;
     window.hasPortals = true;
     const auto p = chooseMutations("auto", window);

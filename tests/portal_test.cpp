@@ -65,12 +65,14 @@ TEST_CASE("T-PO-2: the portal perturbation's moved pair follows the T of Eq. 10"
     // portal at height 1.5 (35 degrees about x), a large area light at height 3 facing down (20 degrees
     // about z). The path light -> receiver -> camera crosses the portal at its centre. From it, the
     // proposals' moved edge directions w (from the moved vertices) are binned by (theta, phi) about the old
-    // direction, and each bin's probability is the integral of T(x -> y) times the Jacobian from the pair
-    // measure to (theta, phi) under the fixed pivot: |n_portal . w| sin(theta) / G(x_p*, x_{p+1}*), G from
-    // the planes' normals here. Right when T = p_sigma(theta) / |n_portal . w| G: a missing portal cosine or a G
-    // in the wrong measure makes the bins uneven and their sum other than 1 (broken on purpose: without the
-    // portal cosine the sum was 0.81 and the largest |z| 29, without G 11.2 and 269). A wider kernel (0.01 to
-    // 0.4 rad) than the default makes the cosines vary over the bins.
+    // direction, and each bin's probability is the integral of T(x -> y) (density(), what the acceptance
+    // uses) times the Jacobian from the pair measure to (theta, phi) under the fixed pivot, derived here
+    // from the throughput measure (dA dA G = dA_portal dsigma_perp): |n_portal . w| sin(theta) / G(x_p*,
+    // x_{p+1}*), G from the planes' normals. So the test holds the sampler and density() to the same
+    // distribution, normalization included; the independent check of the acceptance is the stationarity
+    // test (mcmc_stationarity_test.cpp). Broken on purpose: without the portal cosine in T the sum was 0.81
+    // and the largest |z| 29, without G 11.2 and 269. A wider kernel (0.01 to 0.4 rad) than the default makes
+    // the cosines vary over the bins.
     TempDir dir;
     auto scene = loadScene(dir.write("planes.xml", R"(<scene version="0.5.0">
   <sensor type="perspective"><float name="fov" value="60"/>
@@ -91,7 +93,7 @@ TEST_CASE("T-PO-2: the portal perturbation's moved pair follows the T of Eq. 10"
     REQUIRE_FALSE(evaluatePath(*scene, x));
     const auto crossing = portalCrossing(*scene, x.v);
     REQUIRE(crossing);
-    CHECK(crossing->light == 0);
+    CHECK(crossing->edge == 0);
     CHECK(length(crossing->p - pivot) < 1e-5);
     CHECK(std::abs(std::abs(dot(crossing->n, nPortal)) - 1) < 1e-9);
 
@@ -191,43 +193,53 @@ TEST_CASE("T-PO-3: a proposal that crosses a portal closer to the sensor, or ano
     REQUIRE_FALSE(evaluatePath(*scene, x));
     const auto crossing = portalCrossing(*scene, x.v);
     REQUIRE(crossing);
-    REQUIRE(crossing->light == 0);
+    REQUIRE(crossing->edge == 0);
     REQUIRE(length(crossing->p - pivot) < 1e-5);
 
     // From the planes: does segment a -> b cross P2 (x = -1, y in [0.51, 1.5], |z| <= 0.5), or does the line
-    // from the floor point a up to the pivot cross P3 (y = 0.75, z in [0.02, 0.5], |x| <= 0.5)?
-    auto crossesP2 = [](const Vec3& a, const Vec3& b) {
+    // from the floor point a up to the pivot cross P3 (y = 0.75, z in [0.02, 0.5], |x| <= 0.5)? Each also
+    // says how far from the border that matters it passes: within 2e-5 the shadow ray's offset off the floor
+    // (segmentRay) may decide either way, and such proposals are not classified.
+    double margin = 0;
+    auto crossesP2 = [&](const Vec3& a, const Vec3& b) {
         const double t = (-1 - a.x) / (b.x - a.x);
         const Vec3 c = a + t * (b - a);
+        margin = std::min(margin, std::abs(c.y - 0.51));
         return t > 0 && t < 1 && c.y >= 0.51 && c.y <= 1.5 && std::abs(c.z) <= 0.5;
     };
     auto crossesP3 = [&](const Vec3& a) {
         const double t = (0.75 - a.y) / (pivot.y - a.y);
         const Vec3 c = a + t * (pivot - a);
+        margin = std::min(margin, std::abs(c.z - 0.02));
         return c.z >= 0.02 && c.z <= 0.5 && std::abs(c.x) <= 0.5;
     };
     const PortalPerturbation portal(*scene, ReciprocalKernel{1.0 / 256, 1.0 / 16});
     Pcg32 rng(11, 1);
-    int closer = 0, before = 0, kept = 0, misclassified = 0;
+    int closer = 0, before = 0, kept = 0, misclassified = 0, borderline = 0;
     for (int i = 0; i < 20000; ++i) {
         Proposal p;
         portal.propose(x, rng, p);
         REQUIRE_FALSE(p.y.v.empty());
         const Vec3 floor = p.y.v[1].p();
+        margin = 1;
         const bool p2 = crossesP2(floor, wallPoint), p3 = crossesP3(floor);
+        if (margin < 2e-5) {
+            ++borderline;
+            continue;
+        }
         const bool rejected = p.failed && *p.failed == RejectCause::NotReversible;
         closer += p2;
         before += p3 && !p2;
         kept += !p2 && !p3;
-        // Floor points within float error of a portal's border may go either way.
         misclassified += rejected != (p2 || p3);
     }
-    INFO(closer << " proposals crossed P2, " << before << " met P3 first, " << kept << " neither; " << misclassified
-                << " classified otherwise by the perturbation");
+    INFO(closer << " proposals crossed P2, " << before << " met P3 first, " << kept << " neither, " << borderline
+                << " too near a border to tell; " << misclassified << " classified otherwise by the perturbation");
     CHECK(closer > 1000);
     CHECK(before > 1000);
     CHECK(kept > 1000);
-    CHECK(misclassified <= 2);
+    CHECK(borderline < 50);
+    CHECK(misclassified == 0);
 }
 
 TEST_CASE("portal perturbation on the shipped portal scenes: the density sampled is the T(x -> y) computed, and "
@@ -247,7 +259,8 @@ TEST_CASE("portal perturbation on the shipped portal scenes: the density sampled
         PathSettings b;
         b.maxDepth = 5;
         const auto seeds = seedWithBdpt(*scene, b, 30000, 3000, 1, 2, nullptr);
-        const PortalPerturbation portal(*scene, ReciprocalKernel{1.0 / 256, 1.0 / 16});
+        const ReciprocalKernel kernel{1.0 / 256, 1.0 / 16};
+        const PortalPerturbation portal(*scene, kernel);
         Pcg32 rng(7, 7);
         int suitable = 0, checked = 0, off = 0, balanceOff = 0, infinite = 0, deep = 0;
         double worst = 0, acceptance = 0;
@@ -265,7 +278,7 @@ TEST_CASE("portal perturbation on the shipped portal scenes: the density sampled
                 portal.propose(x, rng, p);
                 if (p.failed) continue;
                 ++checked;
-                const size_t e = portalCrossing(*scene, x.v)->light;
+                const size_t e = portalCrossing(*scene, x.v)->edge;
                 infinite += p.y.v[e].infinite;
                 deep += e > 0;
                 const double mismatch = proposalDensityMismatch(portal, p);
@@ -278,8 +291,8 @@ TEST_CASE("portal perturbation on the shipped portal scenes: the density sampled
                 const Vec3 wy = yl.infinite ? -yl.ng() : normalize(yl.p() - ye.p());
                 const double theta = std::atan2(length(cross(wx, wy)), dot(wx, wy));
                 const double g = xl.infinite ? std::abs(dot(xe.ng(), wx)) : geometry(xe.p(), xe.ng(), xl.p(), xl.ng());
-                const double reverseT =
-                    1 / (2 * Pi * std::log(16.0) * theta * std::sin(theta)) / std::abs(dot(nPortal, wx)) * g;
+                const double reverseT = 1 / (2 * Pi * std::log(kernel.hi / kernel.lo) * theta * std::sin(theta)) /
+                                        std::abs(dot(nPortal, wx)) * g;
                 if (!(std::abs(reverseT / (p.reverseQ * x.target) - 1) < 1e-2)) ++balanceOff;
             }
         }
@@ -327,8 +340,10 @@ TEST_CASE("T-PO-1: on the paper's three planes the chains with the portal pertur
           "radiance",
           "[portal]") {
     // Expected per 4 x 4 block: the radiance averaged over the block's pixels (4 x 4 points per pixel, each
-    // camera ray taken to the reflector). The chains: 8 independent runs per mix; 5 standard errors of their
-    // spread (the b each run estimates from its own BDPT seeds is part of that spread).
+    // camera ray taken to the reflector). The chains: 16 independent runs per mix (each with b from its own
+    // BDPT seeds, part of their spread). A block's z is a Student t with 15 degrees of freedom: P(|t| > 6)
+    // is 2.4e-5, so over the 72 blocks of both mixes a correct chain fails with probability below 2e-3; the
+    // whole image's mean, known to about 0.5 %, is held to 5 of its errors (P = 1.6e-4 per mix).
     auto scene = loadScene(shippedScene("three-planes"));
     const int w = 24, bs = 4, nb = (w / bs) * (w / bs);
     scene->camera = scene->camera.withResolution(w, w);
@@ -342,18 +357,21 @@ TEST_CASE("T-PO-1: on the paper's three planes the chains with the portal pertur
                     expected[size_t((py / bs) * (w / bs) + px / bs)] +=
                         reflectorRadiance(r.o.x + t * r.d.x, r.o.z + t * r.d.z) / (16 * bs * bs);
                 }
+    const double expectedMean = std::accumulate(expected.begin(), expected.end(), 0.0) / nb;
     for (const std::string mix : {"bidirectional,lens,portal", "bidirectional,portal"}) {
         INFO(mix);
         MutationStatistics stats;
         std::vector<std::vector<double>> blocks(static_cast<size_t>(nb));
-        for (uint64_t seed = 0; seed < 8; ++seed) {
-            const auto img = runPathMix(*scene, mix, 2, 24 * 24 * 1024, seed, 2, 20000, &stats);
+        std::vector<double> means;
+        for (uint64_t seed = 0; seed < 16; ++seed) {
+            const auto img = runPathMix(*scene, mix, 2, 24 * 24 * 512, seed, 2, 20000, &stats);
             std::vector<double> block(size_t(nb), 0.0);
             for (int y = 0; y < w; ++y)
                 for (int x = 0; x < w; ++x)
                     block[size_t((y / bs) * (w / bs) + x / bs)] += img[3 * size_t(y * w + x) + 1] / (bs * bs);
             for (int i = 0; i < nb; ++i)
                 blocks[size_t(i)].push_back(block[size_t(i)]);
+            means.push_back(std::accumulate(block.begin(), block.end(), 0.0) / nb);
         }
         int outliers = 0;
         double worst = 0;
@@ -361,15 +379,20 @@ TEST_CASE("T-PO-1: on the paper's three planes the chains with the portal pertur
             const auto m = meanAndError(blocks[size_t(i)]);
             const double z = (m.mean - expected[size_t(i)]) / m.error;
             worst = std::max(worst, std::abs(z));
-            if (!(std::abs(z) < 5)) {
+            if (!(std::abs(z) < 6)) {
                 ++outliers;
                 UNSCOPED_INFO("block " << i << ": " << m.mean << " +- " << m.error << ", analytic "
                                        << expected[size_t(i)]);
             }
             CHECK(m.error < 0.05 * expected[size_t(i)]);
         }
-        INFO("largest |z| " << worst << "\n" << stats.text());
+        const auto all = meanAndError(means);
+        INFO("largest |z| over blocks " << worst << "; image mean " << all.mean << " +- " << all.error << ", analytic "
+                                        << expectedMean << "\n"
+                                        << stats.text());
         CHECK(outliers == 0);
+        CHECK(std::abs(all.mean - expectedMean) < 5 * all.error);
+        CHECK(all.error < 0.01 * expectedMean);
         const size_t portalIndex = stats.strategies().size() - 1;
         CHECK(stats[portalIndex].accepted > stats[portalIndex].proposed / 4);
     }
@@ -378,13 +401,19 @@ TEST_CASE("T-PO-1: on the paper's three planes the chains with the portal pertur
 TEST_CASE("path-space chains with the portal perturbation converge to BDPT on portal-room and window-room",
           "[portal][slow]") {
     // An area light beyond a small window, and a sky (envmap with a sun) through a larger one: the portal
-    // perturbation moves the edges through the windows, including the ones that end at infinity.
+    // perturbation moves the edges through the windows, including the ones that end at infinity. 1024
+    // mutations per pixel per run: window-room's glossy ball, lit by the sunlit floor, makes short runs
+    // skewed (most of them dark there, a few bright; with 64 per pixel a block was off by z = -8 with lens
+    // and portal alike), which the block test's t does not allow.
     for (const std::string name : {"portal-room", "window-room"}) {
         INFO(name);
         auto scene = loadScene(shippedScene(name));
         MutationStatistics stats;
-        checkAgainstBdpt(*scene, 4, 6,
-                         {{"bidirectional,lens,portal", pathRuns(*scene, "bidirectional,lens,portal", 4, &stats)}});
+        const Scene& s = *scene;
+        checkAgainstBdpt(*scene, 4, 6, {{"bidirectional,lens,portal", [&](uint64_t seed) {
+                                             return runPathMix(s, "bidirectional,lens,portal", 4, 24 * 24 * 1024, seed,
+                                                               2, 20000, &stats);
+                                         }}});
         INFO(stats.text());
         REQUIRE(stats.strategies().size() == 3);
         CHECK(stats[2].accepted > stats[2].proposed / 10);

@@ -139,13 +139,13 @@ int main(int argc, char** argv) {
         if (!(hsltGamma > 0)) throw lt::Error("--hslt-gamma must lie in (0, 1], got " + std::to_string(hsltGamma));
         if (!(hsltStratify >= 0))
             throw lt::Error("--hslt-stratify must lie in [0, 1], got " + std::to_string(hsltStratify));
+        // CLI11's range check lets NaN through; refuse it before the seeding, not after.
+        if (!std::isfinite(lambda))
+            throw lt::Error("--lambda must be a positive number, got " + std::to_string(lambda));
         if (space != "path" && app.count("--portal-range")) throw lt::Error("--portal-range is for --space path");
         if (!(portalRange[0] > 0 && portalRange[0] < portalRange[1] && portalRange[1] < lt::Pi / 2))
             throw lt::Error("--portal-range: need 0 < MIN < MAX < pi/2 radians, got " + std::to_string(portalRange[0]) +
                             "," + std::to_string(portalRange[1]));
-        // CLI11's range check lets NaN through; refuse it before the seeding, not after.
-        if (!std::isfinite(lambda))
-            throw lt::Error("--lambda must be a positive number, got " + std::to_string(lambda));
         if (space == "path" && (app.count("--large-step") || app.count("--max-length-unbounded")))
             throw lt::Error("--large-step and --max-length-unbounded are for --space primary and multiplexed");
         if (space != "path" && app.count("--refine-b"))

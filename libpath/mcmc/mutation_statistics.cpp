@@ -34,8 +34,6 @@ const char* rejectCauseName(RejectCause c) {
         return "not_reversible";
     case RejectCause::Missed:
         return "missed";
-    case RejectCause::SpecularNeighbour:
-        return "specular_neighbour";
     case RejectCause::Count:
         break;
     }
@@ -93,9 +91,8 @@ std::string MutationStatistics::text() const {
         const char* title;
     };
     std::vector<Column> extra;
-    for (const Column c :
-         {Column{RejectCause::WalkFailed, "walk failed"}, Column{RejectCause::NotReversible, "not reversible"},
-          Column{RejectCause::Missed, "missed"}, Column{RejectCause::SpecularNeighbour, "specular nb"}})
+    for (const Column c : {Column{RejectCause::WalkFailed, "walk failed"},
+                           Column{RejectCause::NotReversible, "not reversible"}, Column{RejectCause::Missed, "missed"}})
         for (const auto& k : counters_)
             if (k.rejected[size_t(c.cause)]) {
                 extra.push_back(c);

@@ -25,9 +25,8 @@ enum class RejectCause : int {
     NotReversible,        // the move back from the proposal could not return to the state: the manifold walk back
                           // did not (ME Sec. 5.1), or the proposal crosses a portal where the portal perturbation
                           // would pick another edge or pivot
-    Missed,               // a perturbed ray left the scene, or reached a vertex of another kind than it replaces
-    SpecularNeighbour,    // a vertex the move changes, or a fixed neighbour it connects to, scatters through a
-                          // delta lobe: no nearby path can join them
+    Missed,               // a ray from a fixed point (the portal perturbation's pivot) hit nothing, or no light
+                          // where the path needs its light vertex
     Count
 };
 [[nodiscard]] const char* rejectCauseName(RejectCause c);

@@ -4,6 +4,8 @@
 // the direction (an environment has no surface to measure area on).
 #pragma once
 
+#include <optional>
+
 #include "bsdf/bsdf.h"
 #include "bsdf/shading_correction.h"
 #include "scene/interaction.h"
@@ -69,6 +71,9 @@ struct PathVertex {
 [[nodiscard]] double geometryTerm(const PathVertex& a, const PathVertex& b);
 // Whether the segment between two vertices is free of occluders.
 [[nodiscard]] bool visible(const Scene& scene, const PathVertex& a, const PathVertex& b);
+// The ray a shadow ray between `from` (finite) and `to` traces: each end offset off its surface (so neither
+// end is on it), unbounded toward a vertex at infinity.
+[[nodiscard]] Ray segmentRay(const PathVertex& from, const PathVertex& to);
 // The same for two surface points (or points without surface: zero normal), and for a ray that must
 // leave the scene (toward an environment or directional emitter).
 [[nodiscard]] bool unoccluded(const Scene& scene, const RayEndpoint& a, const RayEndpoint& b);
@@ -85,6 +90,10 @@ void setSurfaceVertex(const Scene& scene, SurfaceInteraction&& si, PathVertex& v
 // environment or directional emitter, the direction the light travels in place of the normal.
 [[nodiscard]] PathVertex lightVertexAt(const Scene& scene, size_t index, const Vec3& p, const Vec3& nOrTravel,
                                        uint32_t prim, const Vec2& coords);
+
+// The light vertex of a surface vertex that lies on an area emitter (a ray that reached a light), or
+// nothing when its surface does not emit.
+[[nodiscard]] std::optional<PathVertex> asLightVertex(const Scene& scene, const PathVertex& hit);
 
 // The vertex at infinity where a ray from `origin` along `dir` (unit) leaves the scene: the environment as
 // one light (Le and the densities sum over every environment emitter; the first names it), travelling

@@ -38,11 +38,9 @@ void Scene::finalize() {
     }
     if (!bounds.valid()) bounds.expand(Vec3(0, 0, 0));
     accel_.build(shapes, include);
-    std::vector<bool> portal(shapes.size());
-    for (size_t i = 0; i < shapes.size(); ++i)
-        portal[i] = shapes[i].portal;
-    hasPortals_ = std::find(portal.begin(), portal.end(), true) != portal.end();
-    if (hasPortals_) portals_.build(shapes, portal);
+    include.flip(); // now the portals
+    hasPortals_ = std::find(include.begin(), include.end(), true) != include.end();
+    if (hasPortals_) portals_.build(shapes, include);
     const SceneDisk disk = sceneDisk();
     std::vector<double> power;
     environmentEmitters.clear();

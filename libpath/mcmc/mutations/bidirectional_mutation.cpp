@@ -230,8 +230,9 @@ void BidirectionalMutation::propose(const MarkovPath& x, Pcg32& rng, Proposal& o
     if (light.empty()) {
         PathVertex& end = eye.back();
         if (!end.infinite) {
-            if (!end.emitter || end.emitter->shape < 0) return fail(RejectCause::ZeroContribution);
-            end = lightVertexAt(scene_, size_t(end.emitterIndex), end.si.p, end.si.ng, end.si.prim, end.si.coords);
+            auto light = asLightVertex(scene_, end);
+            if (!light) return fail(RejectCause::ZeroContribution);
+            end = std::move(*light);
         }
     } else {
         light.back().delta = false;

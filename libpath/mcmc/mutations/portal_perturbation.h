@@ -20,6 +20,11 @@
 // The reverse move (Sec. 4.5) must choose the same edge and the same pivot: a proposal whose new eye-side
 // edge crosses a portal, or whose moved edge meets another portal before p, has T(y -> x) = 0 and is
 // rejected as not reversible before it is evaluated.
+//
+// A delta vertex on the edge or next to it leaves no nearby path (the paper's early rejection, Sec. 4.5);
+// here such paths are not suitable, so the driver picks another strategy for them instead of wasting a
+// step. Portals are openings: a portal lying on geometry (a wall's face marked as one) would put the pivot
+// on a surface, where the rays from it start ambiguously.
 #pragma once
 
 #include <optional>
@@ -33,8 +38,9 @@ namespace lt {
 // can move (the eye side not the pinhole; the light side not a point or directional light, which no ray
 // from the portal can reach), and on it the crossing closest to its eye-side vertex.
 struct PortalCrossing {
-    size_t light = 0; // index of the edge's light-side vertex
-    Vec3 p, n;        // the crossing point and the portal's geometric normal there
+    size_t edge = 0;      // the edge (v[edge], v[edge + 1]): v[edge] its light-side vertex
+    Vec3 p, n;            // the crossing point and the portal's geometric normal there
+    double magnitude = 0; // the portal primitive's largest coordinate (the float error of p scales with it)
 };
 [[nodiscard]] std::optional<PortalCrossing> portalCrossing(const Scene& scene, const std::vector<PathVertex>& v);
 
@@ -45,13 +51,14 @@ public:
 
     [[nodiscard]] std::string name() const override { return "portal"; }
     // Suitable where the path crosses a portal on an edge that can move (Sec. 4.5: otherwise T(y -> x)
-    // would be 0 for every y).
+    // would be 0 for every y) and no delta vertex is on that edge or next to it.
     [[nodiscard]] bool suitable(const MarkovPath& x) const override;
     void propose(const MarkovPath& x, Pcg32& rng, Proposal& out) const override;
 
-    // T of the moved pair of `to`, proposed from a path that crossed the portal with normal n along the
-    // direction `from` (unit, eye side toward light side): p_sigma(theta) / |n . w| G (T_A's delta left out).
-    [[nodiscard]] double density(const Vec3& from, const Vec3& n, const MarkovPath& to, size_t light) const;
+    // T of the moved pair of `to` (edge `edge`), proposed from a path that crossed the portal with normal n
+    // along the direction `from` (unit, eye side toward light side): p_sigma(theta) / |n . w| G (T_A's delta
+    // left out).
+    [[nodiscard]] double density(const Vec3& from, const Vec3& n, const MarkovPath& to, size_t edge) const;
 
 private:
     const Scene& scene_;

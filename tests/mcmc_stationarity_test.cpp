@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <memory>
 #include <numeric>
 #include <sstream>
@@ -451,21 +452,27 @@ namespace {
 const Vec3 SunTravel{InvSqrt2, 0, -InvSqrt2};
 const Patch Everywhere{{10, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, 1};
 
-// f*(x1) = targetValue(E f_s(-SunTravel -> x1 -> eye)) |cos1| G(x1, eye) W_e, on Fine x Fine points per cell.
-std::vector<double> tabulateSun(const Bsdf& bsdf) {
-    constexpr int Fine = Cells * 16;
+// Every point x1 of a Fine x Fine midpoint grid over the glossy patch, with the direction toward the eye in
+// the patch's frame and the pinhole's share of f* there (pinholeFactor; per unit area).
+void forGlossyPoints(int fine, const std::function<void(const Vec3& x1, const Vec3& woLocal, double eyeFactor)>& f) {
     const Vec3 forward = normalize(-Eye);
-    std::vector<double> bins(Bins, 0.0);
-    for (int i = 0; i < Fine; ++i)
-        for (int j = 0; j < Fine; ++j) {
-            const Vec3 x1 = Glossy.at(Glossy.h * (2 * (i + 0.5) / Fine - 1), Glossy.h * (2 * (j + 0.5) / Fine - 1));
+    for (int i = 0; i < fine; ++i)
+        for (int j = 0; j < fine; ++j) {
+            const Vec3 x1 = Glossy.at(Glossy.h * (2 * (i + 0.5) / fine - 1), Glossy.h * (2 * (j + 0.5) / fine - 1));
             Vec3 wo;
             const double eyeFactor = pinholeFactor(x1, Glossy.n, Eye, forward, wo);
-            const Vec3 woLocal(dot(wo, Glossy.u), dot(wo, Glossy.v), dot(wo, Glossy.n));
-            const Vec3 wiLocal(-dot(SunTravel, Glossy.u), -dot(SunTravel, Glossy.v), -dot(SunTravel, Glossy.n));
-            const Spectrum fs = bsdf.eval(wiLocal, woLocal, Vec2(0.5, 0.5), Transport::Importance);
-            bins[size_t(binOf(Everywhere, Glossy, x1, x1))] += targetValue(fs) * wiLocal.z * eyeFactor;
+            f(x1, Vec3(dot(wo, Glossy.u), dot(wo, Glossy.v), dot(wo, Glossy.n)), eyeFactor);
         }
+}
+
+// f*(x1) = targetValue(E f_s(-SunTravel -> x1 -> eye)) |cos1| G(x1, eye) W_e, on Fine x Fine points per cell.
+std::vector<double> tabulateSun(const Bsdf& bsdf) {
+    std::vector<double> bins(Bins, 0.0);
+    const Vec3 wiLocal(-dot(SunTravel, Glossy.u), -dot(SunTravel, Glossy.v), -dot(SunTravel, Glossy.n));
+    forGlossyPoints(Cells * 16, [&](const Vec3& x1, const Vec3& woLocal, double eyeFactor) {
+        const Spectrum fs = bsdf.eval(wiLocal, woLocal, Vec2(0.5, 0.5), Transport::Importance);
+        bins[size_t(binOf(Everywhere, Glossy, x1, x1))] += targetValue(fs) * wiLocal.z * eyeFactor;
+    });
     return normalized(std::move(bins));
 }
 
@@ -519,24 +526,18 @@ const Patch SkyHalves{{-0.5, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, 1};
 // f*(x1, w) = targetValue(f_s(w -> x1 -> eye)) cos(w) G(x1, eye) W_e, by a midpoint rule on Fine x Fine points
 // per patch and a grid uniform in (cos theta, phi) over the upper hemisphere (dw = dcos dphi).
 std::vector<double> tabulateSky(const Bsdf& bsdf) {
-    constexpr int Fine = Cells * 8, CosGrid = 64, PhiGrid = 128;
-    const Vec3 forward = normalize(-Eye);
+    constexpr int CosGrid = 64, PhiGrid = 128;
     std::vector<double> bins(Bins, 0.0);
-    for (int i = 0; i < Fine; ++i)
-        for (int j = 0; j < Fine; ++j) {
-            const Vec3 x1 = Glossy.at(Glossy.h * (2 * (i + 0.5) / Fine - 1), Glossy.h * (2 * (j + 0.5) / Fine - 1));
-            Vec3 wo;
-            const double eyeFactor = pinholeFactor(x1, Glossy.n, Eye, forward, wo);
-            const Vec3 woLocal(dot(wo, Glossy.u), dot(wo, Glossy.v), dot(wo, Glossy.n));
-            for (int a = 0; a < CosGrid; ++a)
-                for (int b = 0; b < PhiGrid; ++b) {
-                    const double c = (a + 0.5) / CosGrid, phi = 2 * Pi * (b + 0.5) / PhiGrid;
-                    const double sn = std::sqrt(1 - c * c);
-                    const Vec3 w(sn * std::cos(phi), sn * std::sin(phi), c); // toward the sky (Glossy's frame is xyz)
-                    const Spectrum fs = bsdf.eval(w, woLocal, Vec2(0.5, 0.5), Transport::Importance);
-                    bins[size_t(binOf(SkyHalves, Glossy, w, x1))] += targetValue(fs) * c * eyeFactor;
-                }
-        }
+    forGlossyPoints(Cells * 8, [&](const Vec3& x1, const Vec3& woLocal, double eyeFactor) {
+        for (int a = 0; a < CosGrid; ++a)
+            for (int b = 0; b < PhiGrid; ++b) {
+                const double c = (a + 0.5) / CosGrid, phi = 2 * Pi * (b + 0.5) / PhiGrid;
+                const double sn = std::sqrt(1 - c * c);
+                const Vec3 w(sn * std::cos(phi), sn * std::sin(phi), c); // toward the sky (Glossy's frame is xyz)
+                const Spectrum fs = bsdf.eval(w, woLocal, Vec2(0.5, 0.5), Transport::Importance);
+                bins[size_t(binOf(SkyHalves, Glossy, w, x1))] += targetValue(fs) * c * eyeFactor;
+            }
+    });
     return normalized(std::move(bins));
 }
 

@@ -198,8 +198,8 @@ TEST_CASE("T-PO-3: a proposal that crosses a portal closer to the sensor, or ano
 
     // From the planes: does segment a -> b cross P2 (x = -1, y in [0.51, 1.5], |z| <= 0.5), or does the line
     // from the floor point a up to the pivot cross P3 (y = 0.75, z in [0.02, 0.5], |x| <= 0.5)? Each also
-    // says how far from the border that matters it passes: within 2e-5 the shadow ray's offset off the floor
-    // (segmentRay) may decide either way, and such proposals are not classified.
+    // says how far from the border that matters it passes: within 2e-5 the float hit points may decide either
+    // way, and such proposals are not classified.
     double margin = 0;
     auto crossesP2 = [&](const Vec3& a, const Vec3& b) {
         const double t = (-1 - a.x) / (b.x - a.x);

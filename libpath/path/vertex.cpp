@@ -114,15 +114,11 @@ bool escapes(const Scene& scene, const RayEndpoint& from, const Vec3& dir) {
     return !scene.occluded(spawnRay(from, dir));
 }
 
-Ray segmentRay(const PathVertex& from, const PathVertex& to) {
-    const RayEndpoint ea = from.isOnSurface() ? from.si.endpoint() : RayEndpoint{from.si.p, {}, 0};
-    if (to.infinite) return spawnRay(ea, from.directionTo(to));
-    return spawnRayTo(ea, to.isOnSurface() ? to.si.endpoint() : RayEndpoint{to.si.p, {}, 0});
-}
-
 bool visible(const Scene& scene, const PathVertex& a, const PathVertex& b) {
     if (a.infinite) return visible(scene, b, a);
-    return !scene.occluded(segmentRay(a, b));
+    const RayEndpoint ea = a.isOnSurface() ? a.si.endpoint() : RayEndpoint{a.si.p, {}, 0};
+    if (b.infinite) return escapes(scene, ea, a.directionTo(b));
+    return unoccluded(scene, ea, b.isOnSurface() ? b.si.endpoint() : RayEndpoint{b.si.p, {}, 0});
 }
 
 std::optional<PathVertex> asLightVertex(const Scene& scene, const PathVertex& hit) {

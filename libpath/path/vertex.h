@@ -71,9 +71,6 @@ struct PathVertex {
 [[nodiscard]] double geometryTerm(const PathVertex& a, const PathVertex& b);
 // Whether the segment between two vertices is free of occluders.
 [[nodiscard]] bool visible(const Scene& scene, const PathVertex& a, const PathVertex& b);
-// The ray a shadow ray between `from` (finite) and `to` traces: each end offset off its surface (so neither
-// end is on it), unbounded toward a vertex at infinity.
-[[nodiscard]] Ray segmentRay(const PathVertex& from, const PathVertex& to);
 // The same for two surface points (or points without surface: zero normal), and for a ray that must
 // leave the scene (toward an environment or directional emitter).
 [[nodiscard]] bool unoccluded(const Scene& scene, const RayEndpoint& a, const RayEndpoint& b);

@@ -19,11 +19,15 @@ std::optional<PortalCrossing> portalCrossing(const Scene& scene, const std::vect
     if (!scene.hasPortals() || v.size() < 3) return std::nullopt;
     // Edges from the sensor toward the light, the camera's own edge (i = k - 1) left out: a pinhole is never
     // hit by a ray from the portal, nor is a point light or a directional light's one direction (i = 0).
-    // On each edge, the crossing nearest its eye-side end, on the segment a shadow ray traces (so a vertex
-    // never crosses at its own position).
+    // On each edge, the crossing nearest its eye-side end, on the segment's own line (a shadow ray's offset
+    // ends would tilt it and move the crossing by their offset, far more than the pivot's tolerance) with
+    // both ends cut by a relative 1e-6, so a vertex never crosses at its own position.
     for (size_t i = v.size() - 2; i-- > 0;) {
         if (i == 0 && v[0].isDeltaLight()) continue;
-        const Ray ray = segmentRay(v[i + 1], v[i]);
+        Ray ray{v[i + 1].p(), edgeDirection(v, i)};
+        const double extent = v[i].infinite ? scene.sceneRadius() : length(v[i].p() - v[i + 1].p());
+        ray.tmin = 1e-6 * extent;
+        if (!v[i].infinite) ray.tmax = extent * (1 - 1e-6);
         const auto hit = scene.intersectPortal(ray);
         if (!hit) continue;
         // The point from the primitive's own coordinates, in double, as every state's crossing is found.

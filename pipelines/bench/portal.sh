@@ -24,7 +24,7 @@ methods="${METHODS:-bdpt pssmlt mlt-lens portal memlt}"
 regions() {
   case "$1" in
     window-room) echo "110,150,70,25 20,40,60,70" ;; # the sunlit floor patch; the left wall and the ball in shade
-    portal-room) echo "130,120,60,40 10,20,60,60" ;;  # the floor below the window; the ceiling corner
+    portal-room) echo "120,205,70,30 10,20,60,60" ;;  # the floor patch the window lights; the upper left wall
     door-ajar) echo "116,50,12,40 10,10,40,30" ;;     # the strip of direct light at the right edge; the far wall
     *) echo "" ;;
   esac

@@ -29,11 +29,13 @@
 
 #include "bsdf/diffuse.h"
 #include "bsdf/half_vector.h"
+#include "bsdf/phong.h"
 #include "bsdf/plastic.h"
 #include "bsdf/roughconductor.h"
 #include "bsdf/roughdielectric.h"
 #include "bsdf/roughplastic.h"
 #include "bsdf/twosided.h"
+#include "bsdf/ward.h"
 #include "math/constants.h"
 #include "math/rng.h"
 
@@ -311,6 +313,23 @@ std::vector<Config> makeConfigs() {
                                        " th=" + std::to_string(th),
                                    [=] { return makeBsdf<RoughPlastic>(p); }, dirFromAngles(th, 80), a, a});
             }
+    for (double n : {1.0, 30.0, 2000.0})
+        for (double th : thetas) {
+            PhongParams p;
+            p.exponent = n;
+            const double a = std::sqrt(2 / (n + 2)); // bins scaled to the lobe's Beckmann-equivalent width
+            configs.push_back({"phong n=" + std::to_string(n) + " th=" + std::to_string(th),
+                               [=] { return makeBsdf<Phong>(p); }, dirFromAngles(th, 40), a, a});
+        }
+    for (WardVariant variant : {WardVariant::Ward, WardVariant::WardDuer, WardVariant::Balanced})
+        for (double th : thetas) {
+            WardParams p;
+            p.variant = variant;
+            p.alphaU = 0.05;
+            p.alphaV = 0.3;
+            configs.push_back({"ward variant " + std::to_string(int(variant)) + " th=" + std::to_string(th),
+                               [=] { return makeBsdf<Ward>(p); }, dirFromAngles(th, 65), 0.05, 0.3});
+        }
     return configs;
 }
 
@@ -355,6 +374,8 @@ TEST_CASE("chi-square: roughdielectric (GGX, anisotropic, extreme eta) sampling 
 }
 
 TEST_CASE("chi-square: roughplastic sampling matches pdf", "[bsdf][chi2]") { runFamily({"roughplastic"}); }
+
+TEST_CASE("chi-square: phong and ward sampling match pdf", "[bsdf][chi2]") { runFamily({"phong", "ward"}); }
 
 TEST_CASE("chi-square p-value helper matches known quantiles", "[bsdf]") {
     // Table values: the 0.95 quantile of chi2 with 1 dof is 3.841459, with 10 dof 18.307038, with 100

@@ -19,6 +19,7 @@
 #include "bsdf/half_vector.h"
 #include "bsdf/ior_presets.h"
 #include "bsdf/microfacet.h"
+#include "bsdf/phong.h"
 #include "bsdf/plastic.h"
 #include "bsdf/roughconductor.h"
 #include "bsdf/roughdielectric.h"
@@ -26,6 +27,7 @@
 #include "bsdf/shading_correction.h"
 #include "bsdf/thindielectric.h"
 #include "bsdf/twosided.h"
+#include "bsdf/ward.h"
 #include "math/constants.h"
 #include "math/error.h"
 #include "math/frame.h"
@@ -92,6 +94,19 @@ std::vector<Named> allBsdfs() {
     PlasticParams nl;
     nl.nonlinear = true;
     v.push_back({"plastic nonlinear", std::make_shared<Plastic>(nl)});
+    for (double n : {1.0, 30.0, 2000.0}) {
+        PhongParams p;
+        p.exponent = n;
+        p.reflectances.specularReflectance = tex(0.4);
+        v.push_back({"phong n=" + std::to_string(n), std::make_shared<Phong>(p)});
+    }
+    for (WardVariant variant : {WardVariant::Ward, WardVariant::WardDuer, WardVariant::Balanced}) {
+        WardParams p;
+        p.variant = variant;
+        p.alphaU = 0.05;
+        p.alphaV = 0.3;
+        v.push_back({"ward variant " + std::to_string(int(variant)), std::make_shared<Ward>(p)});
+    }
     return v;
 }
 
@@ -513,6 +528,18 @@ TEST_CASE("no NaN or Inf over the stiff parameter ranges", "[bsdf]") {
         pp.nonlinear = true;
         pp.diffuseReflectance = tex(1.0);
         bsdfs.push_back({"plastic", std::make_shared<Plastic>(pp)});
+    }
+    for (double a : {1e-4, 1e-2, 1.0}) {
+        PhongParams pp;
+        pp.exponent = 2 / (a * a) - 2; // the Beckmann-equivalent alpha a
+        bsdfs.push_back({"phong", std::make_shared<Phong>(pp)});
+        for (WardVariant variant : {WardVariant::Ward, WardVariant::WardDuer, WardVariant::Balanced}) {
+            WardParams wp;
+            wp.variant = variant;
+            wp.alphaU = a;
+            wp.alphaV = a * 0.5 + 1e-4;
+            bsdfs.push_back({"ward", std::make_shared<Ward>(wp)});
+        }
     }
     ConductorParams none;
     none.eta = lookupConductor("none")->eta;

@@ -161,6 +161,31 @@ TEST_CASE("shapes: every kind, with transforms and flipNormals", "[loader]") {
     }
 }
 
+TEST_CASE("shapegroup and instance: the group's shapes placed by each instance", "[loader]") {
+    test::TempDir dir;
+    const auto s = loadScene(sceneFile(dir, R"(
+        <shape type="shapegroup" id="pair">
+            <shape type="sphere"><float name="radius" value="0.5"/><bsdf type="roughconductor" id="metal"/></shape>
+            <shape type="rectangle"><transform name="toWorld"><translate x="2"/></transform></shape>
+        </shape>
+        <shape type="instance"><ref id="pair"/></shape>
+        <shape type="instance"><ref id="pair"/><transform name="toWorld"><scale value="2"/><translate y="10"/></transform></shape>)"));
+    REQUIRE(s->shapes.size() == 4);
+    // The second instance scales the group by 2 and lifts it by 10: the rectangle ([-1, 1]^2 moved to x = 2)
+    // spans x in [2, 6] and y in [8, 12]; the first instance's rectangle reaches down to y = -1.
+    CHECK(s->bounds.hi.y == Approx(12).margin(1e-6));
+    CHECK(s->bounds.hi.x == Approx(6).margin(1e-6));
+    CHECK(s->bounds.lo.y == Approx(-1).margin(1e-6));
+    // One declaration, one BSDF, however many instances use it (plus the rectangles' default diffuse).
+    CHECK(s->bsdfs.size() == 3);
+    CHECK(analyzeScene(*s).glossyBsdfs == 1);
+    test::TempDir bad;
+    const std::string f = sceneFile(bad, R"(<shape type="shapegroup" id="g"><shape type="sphere">
+        <emitter type="area"/></shape></shape>)");
+    CHECK_THAT(errorOf(f),
+               Equals(f + ":2: <shape type=\"sphere\">: a shape in a shapegroup cannot emit (as in Mitsuba)"));
+}
+
 TEST_CASE("properties: defaults, $substitution, include, spectra, colours", "[loader]") {
     test::TempDir dir;
     dir.write("part.xml", R"(<scene version="0.5.0"><shape type="sphere"><float name="radius" value="$r"/></shape></scene>)");
@@ -197,15 +222,42 @@ TEST_CASE("every BSDF kind builds from XML", "[loader]") {
             <rgb name="eta" value="0.2, 0.9, 1.1"/><rgb name="k" value="3.9, 2.4, 2.1"/></bsdf>
         <bsdf type="plastic"><rgb name="diffuseReflectance" value="0.3"/></bsdf>
         <bsdf type="roughplastic"><float name="alpha" value="0.3"/></bsdf>
-        <bsdf type="diffuse"><texture type="checkerboard" name="reflectance"/></bsdf>)"));
-    REQUIRE(s->bsdfs.size() == 10);
-    const char* names[] = {"diffuse", "twosided", "dielectric", "thindielectric", "roughdielectric",
-                           "conductor", "roughconductor", "plastic", "roughplastic", "diffuse"};
-    for (size_t i = 0; i < 10; ++i) CHECK(s->bsdfs[i].bsdf->typeName() == names[i]);
+        <bsdf type="diffuse"><texture type="checkerboard" name="reflectance"/></bsdf>
+        <bsdf type="phong"><float name="exponent" value="80"/><rgb name="specularReflectance" value="0.3"/></bsdf>
+        <bsdf type="ward"><string name="variant" value="ward-duer"/><float name="alpha" value="0.2"/>
+            <float name="alphaV" value="0.05"/></bsdf>)"));
+    REQUIRE(s->bsdfs.size() == 12);
+    const char* names[] = {"diffuse",         "twosided",  "dielectric",     "thindielectric",
+                           "roughdielectric", "conductor", "roughconductor", "plastic",
+                           "roughplastic",    "diffuse",   "phong",          "ward"};
+    for (size_t i = 0; i < 12; ++i)
+        CHECK(s->bsdfs[i].bsdf->typeName() == names[i]);
+    // phong's Beckmann-equivalent roughness sqrt(2 / (n + 2)); ward's alphaU defaults to alpha (Mitsuba).
+    CHECK(s->bsdfs[10].bsdf->roughness({0, 0}) == Approx(std::sqrt(2.0 / 82)));
+    CHECK(s->bsdfs[11].bsdf->roughness({0, 0}) == Approx(0.05));
+    CHECK(s->bsdfs[11].bsdf->hasDiffuse());
+    CHECK(s->warnings.empty());
     CHECK(s->bsdfs[2].bsdf->hasDelta());
     CHECK(s->bsdfs[2].bsdf->eta()->interior == Approx(1.33));
     CHECK(s->bsdfs[4].bsdf->hasGlossy());
     CHECK(s->bsdfs[4].bsdf->hasTransmission());
+}
+
+TEST_CASE("phong and ward reflectances summing above 1 are scaled down as in Mitsuba, and the loader says so",
+          "[loader]") {
+    test::TempDir dir;
+    const std::string f = sceneFile(dir, R"(<bsdf type="phong"><rgb name="diffuseReflectance" value="0.9"/></bsdf>
+        <bsdf type="ward"><rgb name="diffuseReflectance" value="0.9"/>
+            <boolean name="ensureEnergyConservation" value="false"/></bsdf>)");
+    const auto s = loadScene(f);
+    REQUIRE(s->warnings.size() == 1);
+    CHECK_THAT(s->warnings[0], StartsWith(f + ":2: <bsdf type=\"phong\">: specularReflectance + diffuseReflectance "
+                                              "exceed 1; both scaled by 0.9"));
+    // f of the diffuse lobe alone (wo far from the mirror direction): 0.9 / pi scaled by 0.99 / 1.1.
+    const Vec3 wi = normalize(Vec3(0.8, 0, 0.6)), wo = normalize(Vec3(0.8, 0, 0.6));
+    const double expected = 0.9 / Pi * 0.99 / 1.1;
+    CHECK(s->bsdfs[0].bsdf->eval(wi, wo, {0, 0}, Transport::Radiance).r == Approx(expected).epsilon(1e-6));
+    CHECK(s->bsdfs[1].bsdf->eval(wi, wo, {0, 0}, Transport::Radiance).r == Approx(0.9 / Pi).epsilon(1e-9));
 }
 
 TEST_CASE("every emitter kind builds from XML", "[loader]") {
@@ -269,15 +321,17 @@ TEST_CASE("bad input: one clear error line naming file, line and element", "[loa
     SECTION("unknown shape plugin") {
         sceneFile(dir, "<shape type=\"teapot\"/>");
         CHECK_THAT(errorOf(f), Equals(f + ":2: <shape type=\"teapot\">: unknown shape type (lt reads obj, ply, "
-                                          "serialized, rectangle, cube, sphere, disk)"));
+                                          "serialized, rectangle, cube, sphere, disk, shapegroup, instance)"));
     }
     SECTION("unknown BSDF plugin") {
         sceneFile(dir, "<bsdf type=\"velvet\" id=\"v\"/>");
         CHECK_THAT(errorOf(f), StartsWith(f + ":2: <bsdf type=\"velvet\" id=\"v\">: unknown BSDF type"));
     }
-    SECTION("unsupported property") {
+    SECTION("a property lt does not read, with --strict") {
         sceneFile(dir, "<shape type=\"sphere\">\n<float name=\"radiuss\" value=\"1\"/>\n</shape>");
-        CHECK_THAT(errorOf(f), Equals(f + ":3: <shape type=\"sphere\"> does not support the property 'radiuss'"));
+        CHECK_THAT(test::errorOf([&] { (void)loadScene(f, {}, UnknownProperties::Fail); }),
+                   Equals(f + ":3: <shape type=\"sphere\"> does not read the property 'radiuss' (an error with "
+                              "--strict; without it lt warns and ignores it, as Mitsuba does)"));
     }
     SECTION("property of the wrong type") {
         sceneFile(dir, "<shape type=\"sphere\">\n<string name=\"radius\" value=\"big\"/>\n</shape>");

@@ -72,6 +72,8 @@ int main(int argc, char** argv) {
     app.add_option("--snapshot-samples", snapshotSamples, "write snapshots at these samples per pixel, e.g. '1,4,16'");
     app.add_option("-D,--define", defines, "scene parameter NAME=VALUE, overriding the scene's <default>")
         ->type_name("NAME=VALUE");
+    bool strict = false;
+    lt::tool::addStrictFlag(app, strict);
     app.add_flag("-q,--quiet", quiet, "no progress output");
 
     return lt::tool::run(app, argc, argv, [&] {
@@ -81,7 +83,7 @@ int main(int argc, char** argv) {
         if (!gpt && gs.rrMin == 0)
             std::cerr << "lt-gradient: warning: --rr-min 0 is biased (base paths that carry nothing never survive, "
                          "though their shifts to other pixels would)\n";
-        auto scene = lt::tool::loadSceneWithOptions("lt-gradient", scenePath, defines, resolution, quiet);
+        auto scene = lt::tool::loadSceneWithOptions("lt-gradient", scenePath, defines, resolution, strict, quiet);
         gs.paths.maxDepth = maxDepth != -2 ? maxDepth : scene->integrator.maxDepth;
         gs.paths.rrDepth = rrDepth > 0 ? rrDepth : scene->integrator.rrDepth;
         if (gs.paths.maxDepth == 0 || gs.paths.maxDepth < -1)

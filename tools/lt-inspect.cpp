@@ -16,6 +16,7 @@
 
 #include "bsdf/bsdf.h"
 #include "common/info.h"
+#include "common/scene_options.h"
 #include "common/tool.h"
 #include "formats/ltfile.h"
 #include "image/buffer_source.h"
@@ -443,11 +444,14 @@ int main(int argc, char** argv) {
     bool json = false, paths = false, histogram = false, manifold = false;
     size_t limit = 0;
     std::vector<std::string> defines;
-    app.add_option("FILE", file, "a Mitsuba 0.5/0.6 scene (.xml), an lt file (.lts, .ltp; - for stdin) or an EXR image")
+    app.add_option("FILE", file,
+                   "a Mitsuba scene (.xml: 0.4-0.6, 2.x, 3.x), an lt file (.lts, .ltp; - for stdin) or an EXR image")
         ->required();
     app.add_flag("--json", json, "print a JSON object instead of text (for scripts)");
     app.add_option("-D,--define", defines, "scene parameter NAME=VALUE, overriding the scene's <default> values")
         ->type_name("NAME=VALUE");
+    bool strict = false;
+    lt::tool::addStrictFlag(app, strict);
     app.add_flag("--paths", paths, "paths file: print the vertex table of the first --limit paths");
     app.add_option("--limit", limit, "paths to show with --paths (default 10) or to write with --obj (default 10000)")
         ->check(CLI::PositiveNumber);
@@ -495,7 +499,8 @@ int main(int argc, char** argv) {
                     : info.contains("scene") && info["scene"].is_object() ? info["scene"].value("path", std::string())
                                                                           : std::string();
                 if (scenePath.empty()) throw lt::Error(f.name + ": names no scene; give it with --scene");
-                const auto scene = lt::loadScene(scenePath, lt::tool::parseDefines(defines));
+                const auto scene =
+                    lt::loadScene(scenePath, lt::tool::parseDefines(defines), lt::tool::unknownProperties(strict));
                 lt::file::checkSceneHash(info, scene->contentHash, f.name, scenePath);
                 lt::printManifoldReport(std::cout, *scene, all, limit ? limit : 10);
                 return 0;
@@ -514,7 +519,7 @@ int main(int argc, char** argv) {
         if (fileOptions)
             throw lt::Error("--paths, --limit, --obj, --histogram, --manifold and --scene apply to lt files; " + file +
                             " is not one");
-        const auto scene = lt::loadScene(file, lt::tool::parseDefines(defines));
+        const auto scene = lt::loadScene(file, lt::tool::parseDefines(defines), lt::tool::unknownProperties(strict));
         const lt::SceneFeatures f = lt::analyzeScene(*scene);
         if (json)
             std::cout << toJson(*scene, f).dump(2) << '\n';

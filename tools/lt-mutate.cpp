@@ -123,6 +123,8 @@ int main(int argc, char** argv) {
         ->check(CLI::PositiveNumber);
     app.add_option("-D,--define", defines, "scene parameter NAME=VALUE, overriding the scene's <default>")
         ->type_name("NAME=VALUE");
+    bool strict = false;
+    lt::tool::addStrictFlag(app, strict);
     app.add_flag("-q,--quiet", quiet, "no progress output");
 
     return lt::tool::run(app, argc, argv, [&] {
@@ -156,7 +158,7 @@ int main(int argc, char** argv) {
         if (!snapshotTimes.empty() && !snapshotMutations.empty())
             throw lt::Error("give --snapshots or --snapshot-mutations, not both");
         if (startupSamples == 0) startupSamples = space == "multiplexed" ? 20000 : 100000;
-        auto scene = lt::tool::loadSceneWithOptions("lt-mutate", scenePath, defines, resolution, quiet);
+        auto scene = lt::tool::loadSceneWithOptions("lt-mutate", scenePath, defines, resolution, strict, quiet);
 
         // Seeds are path-space states: path-space chains start from them; the primary spaces start from
         // their own start-up samples, whose b integrates the same target in their own measure.

@@ -60,6 +60,8 @@ int main(int argc, char** argv) {
         ->check(CLI::PositiveNumber);
     app.add_option("-D,--define", defines, "scene parameter NAME=VALUE, overriding the scene's <default>")
         ->type_name("NAME=VALUE");
+    bool strict = false;
+    lt::tool::addStrictFlag(app, strict);
     app.add_flag("-q,--quiet", quiet, "no progress output");
 
     return lt::tool::run(app, argc, argv, [&] {
@@ -67,7 +69,7 @@ int main(int argc, char** argv) {
         if (pathsOut.empty() && app.count("--max-paths")) throw lt::Error("--max-paths needs --paths");
         if (method == "pt" && !pathsOut.empty())
             throw lt::Error("--paths needs --method bdpt (seed paths are BDPT strategies)");
-        auto scene = lt::tool::loadSceneWithOptions("lt-seed", scenePath, defines, resolution, quiet);
+        auto scene = lt::tool::loadSceneWithOptions("lt-seed", scenePath, defines, resolution, strict, quiet);
 
         lt::RenderSettings rs;
         rs.paths.maxDepth = maxDepth != -2 ? maxDepth : scene->integrator.maxDepth;

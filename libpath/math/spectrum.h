@@ -41,6 +41,9 @@ struct Spectrum {
 constexpr Spectrum operator*(double s, const Spectrum& v) { return v * s; }
 inline Spectrum sqrt(const Spectrum& v) { return {std::sqrt(v.r), std::sqrt(v.g), std::sqrt(v.b)}; }
 inline Spectrum exp(const Spectrum& v) { return {std::exp(v.r), std::exp(v.g), std::exp(v.b)}; }
+inline Spectrum max(const Spectrum& a, const Spectrum& b) {
+    return {std::max(a.r, b.r), std::max(a.g, b.g), std::max(a.b, b.b)};
+}
 
 // Convert a sampled spectrum (wavelengths in nm, ascending, with values) to linear sRGB: integrate
 // against the CIE 1931 observer, XYZ -> sRGB, and white-balance so that a constant spectrum c maps to

@@ -5,12 +5,14 @@
 #include "bsdf/dielectric.h"
 #include "bsdf/diffuse.h"
 #include "bsdf/ior_presets.h"
+#include "bsdf/phong.h"
 #include "bsdf/plastic.h"
 #include "bsdf/roughconductor.h"
 #include "bsdf/roughdielectric.h"
 #include "bsdf/roughplastic.h"
 #include "bsdf/thindielectric.h"
 #include "bsdf/twosided.h"
+#include "bsdf/ward.h"
 #include "math/error.h"
 
 namespace lt {
@@ -74,18 +76,33 @@ double PluginFactory::ior(const SceneObject& o, const std::string& key, double d
     return o.getFloat(key);
 }
 
+GlossyDiffuseParams PluginFactory::glossyDiffuse(const SceneObject& o) {
+    GlossyDiffuseParams p;
+    p.specularReflectance = textureParam(o, "specularReflectance", Spectrum(0.2));
+    p.diffuseReflectance = textureParam(o, "diffuseReflectance", Spectrum(0.5));
+    p.ensureEnergyConservation = o.getBoolean("ensureEnergyConservation", true);
+    return p;
+}
+
+void PluginFactory::noteEnergyScale(const SceneObject& o, const GlossyDiffuseBsdf& b) {
+    if (b.energyScale() < 1)
+        warnings.push_back(o.where() + ": specularReflectance + diffuseReflectance exceed 1; both scaled by " +
+                           std::to_string(b.energyScale()) +
+                           " to conserve energy, as Mitsuba does (ensureEnergyConservation = false keeps them)");
+}
+
 void PluginFactory::finish(const SceneObject& o, const std::set<std::string>& hints) {
-    for (const auto& key : o.checkUnused(hints)) ignored.push_back(o.tag + " " + o.type + ": " + key);
+    unread_.check(o, hints);
     for (const auto& c : o.children) {
         // Every nested object must have been consumed as a named texture or nested BSDF.
-        if (c->tag == "texture" && !c->name.empty() && textures_.count(c.get())) continue;
-        if (c->tag == "bsdf" && bsdfs_.count(c.get())) continue;
+        if (c->tag == "texture" && !c->name.empty() && textures_.count(c->declaration())) continue;
+        if (c->tag == "bsdf" && bsdfs_.count(c->declaration())) continue;
         c->fail("not used by its <" + o.tag + " type=\"" + o.type + "\"> (check its name)");
     }
 }
 
 std::shared_ptr<const Texture> PluginFactory::texture(const SceneObject& o) {
-    if (auto it = textures_.find(&o); it != textures_.end()) return it->second;
+    if (auto it = textures_.find(o.declaration()); it != textures_.end()) return it->second;
     const Vec2 offset{o.getFloat("uoffset", 0.0), o.getFloat("voffset", 0.0)};
     const Vec2 scale{o.getFloat("uscale", 1.0), o.getFloat("vscale", 1.0)};
     std::shared_ptr<const Texture> t;
@@ -106,7 +123,7 @@ std::shared_ptr<const Texture> PluginFactory::texture(const SceneObject& o) {
     } else {
         o.fail("unknown texture type (lt reads bitmap and checkerboard)");
     }
-    textures_[&o] = t;
+    textures_[o.declaration()] = t;
     return t;
 }
 
@@ -125,7 +142,7 @@ std::shared_ptr<const Bsdf> PluginFactory::defaultBsdf() {
 }
 
 std::shared_ptr<const Bsdf> PluginFactory::bsdf(const SceneObject& o) {
-    if (auto it = bsdfs_.find(&o); it != bsdfs_.end()) return it->second;
+    if (auto it = bsdfs_.find(o.declaration()); it != bsdfs_.end()) return it->second;
     std::shared_ptr<const Bsdf> b;
     try {
         if (o.type == "diffuse") {
@@ -204,16 +221,44 @@ std::shared_ptr<const Bsdf> PluginFactory::bsdf(const SceneObject& o) {
             p.nonlinear = o.getBoolean("nonlinear", false);
             b = std::make_shared<RoughPlastic>(p);
             finish(o, {"sampleVisible"});
+        } else if (o.type == "phong") {
+            PhongParams p;
+            p.exponent = o.getFloat("exponent", p.exponent);
+            p.reflectances = glossyDiffuse(o);
+            const auto phong = std::make_shared<Phong>(p);
+            noteEnergyScale(o, *phong);
+            b = phong;
+            finish(o);
+        } else if (o.type == "ward") {
+            WardParams p;
+            const std::string variant = o.getString("variant", "balanced");
+            if (variant == "ward")
+                p.variant = WardVariant::Ward;
+            else if (variant == "ward-duer")
+                p.variant = WardVariant::WardDuer;
+            else if (variant == "balanced")
+                p.variant = WardVariant::Balanced;
+            else
+                o.fail("variant must be ward, ward-duer or balanced, not '" + variant + "'");
+            // Mitsuba's ward: alphaU and alphaV each default to alpha (0.1).
+            const double alpha = o.getFloat("alpha", 0.1);
+            p.alphaU = o.getFloat("alphaU", alpha);
+            p.alphaV = o.getFloat("alphaV", alpha);
+            p.reflectances = glossyDiffuse(o);
+            const auto ward = std::make_shared<Ward>(p);
+            noteEnergyScale(o, *ward);
+            b = ward;
+            finish(o);
         } else {
             o.fail("unknown BSDF type (lt reads diffuse, twosided, dielectric, thindielectric, roughdielectric, "
-                   "conductor, roughconductor, plastic, roughplastic)");
+                   "conductor, roughconductor, plastic, roughplastic, phong, ward)");
         }
     } catch (const Error& e) {
         const std::string what = e.what();
         if (what.find(o.file + ':') == 0) throw;
         o.fail(what);
     }
-    bsdfs_[&o] = b;
+    bsdfs_[o.declaration()] = b;
     return b;
 }
 

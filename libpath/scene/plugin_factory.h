@@ -1,6 +1,6 @@
 // Builders of BSDFs and textures from their XML descriptions, shared by the scene builder. Each reads
-// the Mitsuba parameters of its plugin (with Mitsuba's defaults) and marks them used, so unknown
-// parameters are reported by SceneObject::checkUnused.
+// the Mitsuba parameters of its plugin (with Mitsuba's defaults) and marks them used, so what is left
+// unread is reported by UnreadProperties.
 #pragma once
 
 #include <functional>
@@ -8,6 +8,7 @@
 #include <string>
 
 #include "bsdf/bsdf.h"
+#include "bsdf/glossy_diffuse.h"
 #include "scene/scene_object.h"
 #include "texture/texture.h"
 
@@ -19,7 +20,7 @@ using FileResolver = std::function<std::string(const SceneObject& owner, const s
 
 class PluginFactory {
 public:
-    explicit PluginFactory(FileResolver resolve) : resolve_(std::move(resolve)) {}
+    PluginFactory(FileResolver resolve, UnreadProperties& unread) : resolve_(std::move(resolve)), unread_(unread) {}
 
     // A texture-valued parameter: a nested/referenced <texture name="key">, an rgb/spectrum/float
     // property, or the default.
@@ -30,15 +31,22 @@ public:
     // Mitsuba gives shapes without a BSDF a diffuse one with reflectance 0.5.
     [[nodiscard]] static std::shared_ptr<const Bsdf> defaultBsdf();
 
-    // Rendering hints reported as ignored, in "plugin.property" form.
-    std::vector<std::string> ignored;
+    // What the plugins changed on their own, for the scene's warnings (e.g. reflectances scaled down
+    // to conserve energy, as Mitsuba does).
+    std::vector<std::string> warnings;
 
 private:
     // An index of refraction given as a number or a name ("bk7", "air", ...).
     [[nodiscard]] double ior(const SceneObject& o, const std::string& key, double def);
+    // The reflectances of phong and ward, with their energy-conservation switch.
+    [[nodiscard]] GlossyDiffuseParams glossyDiffuse(const SceneObject& o);
+    // A warning when Mitsuba's energy conservation scaled a glossy BSDF's reflectances.
+    void noteEnergyScale(const SceneObject& o, const GlossyDiffuseBsdf& b);
     void finish(const SceneObject& o, const std::set<std::string>& hints = {});
 
     FileResolver resolve_;
+    UnreadProperties& unread_;
+    // Built objects by declaration (SceneObject::declaration()).
     std::map<const SceneObject*, std::shared_ptr<const Texture>> textures_;
     std::map<const SceneObject*, std::shared_ptr<const Bsdf>> bsdfs_;
 };

@@ -43,7 +43,8 @@ public:
     IntegratorDefaults integrator;
 
     // What the loader did not use but accepted (rendering hints such as gamma or banner), reported once,
-    // and what it repaired (degenerate triangles), for the tool to print.
+    // and its warnings (properties lt does not know, ignored; degenerate triangles removed), for the tool
+    // to print.
     std::vector<std::string> ignoredHints;
     std::vector<std::string> warnings;
 
@@ -83,8 +84,13 @@ private:
     bool hasPortals_ = false;
 };
 
-// Load a Mitsuba 0.5/0.6 XML scene (scene/xml_parser.cpp + scene/scene_builder.cpp). Throws lt::Error
-// with a message naming the file, line and element.
-std::unique_ptr<Scene> loadScene(const std::string& filename, const std::map<std::string, std::string>& parameters = {});
+// A property lt does not read (a typo, or a Mitsuba option lt has no counterpart for): a warning, as in
+// Mitsuba, or an error (`--strict`).
+enum class UnknownProperties { Warn, Fail };
+
+// Load a Mitsuba XML scene (0.4-0.6, 2.x, 3.x; scene/xml_parser.cpp + scene/scene_builder.cpp). Throws
+// lt::Error with a message naming the file, line and element.
+std::unique_ptr<Scene> loadScene(const std::string& filename, const std::map<std::string, std::string>& parameters = {},
+                                 UnknownProperties unknown = UnknownProperties::Warn);
 
 } // namespace lt

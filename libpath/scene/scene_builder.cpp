@@ -1,12 +1,15 @@
 // SceneObject tree -> Scene: shapes (with their meshes loaded and transformed), emitters, the sensor
 // and the rendering defaults. BSDFs and textures are built by PluginFactory.
 #include <algorithm>
+#include <charconv>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <set>
 
 #include "math/constants.h"
 #include "math/error.h"
+#include "scene/missing_file.h"
 #include "scene/plugin_factory.h"
 #include "scene/scene.h"
 
@@ -34,11 +37,28 @@ void hashFile(uint64_t& h, const std::string& path) {
     }
 }
 
+// The diagonal field of view, in degrees, of a lens of focal length `mm` on 35 mm film (36 x 24 mm), as
+// Mitsuba converts `focalLength` (0.6 src/librender/sensor.cpp; the same in 3).
+double fullFrameFov(double mm) { return 2 * std::atan(std::sqrt(36.0 * 36.0 + 24.0 * 24.0) / (2 * mm)) * 180 / Pi; }
+
+// A perspective sensor without `fov`: its `focalLength` ("50mm" by default, the unit optional) as a field of view.
+double focalLengthFov(const SceneObject& o) {
+    std::string text = o.has("focalLength") && o.props.at("focalLength").type != Property::Type::String
+                           ? std::to_string(o.getFloat("focalLength"))
+                           : o.getString("focalLength", "50mm");
+    if (text.size() > 2 && text.compare(text.size() - 2, 2, "mm") == 0) text.resize(text.size() - 2);
+    double mm = 0;
+    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), mm);
+    if (ec != std::errc() || end != text.data() + text.size() || !(mm > 0) || !std::isfinite(mm))
+        o.fail("focalLength must be a positive length in millimetres such as \"50mm\", not '" + text + "'");
+    return fullFrameFov(mm);
+}
+
 class Builder {
 public:
-    Builder(Scene& scene, const XmlDocument& doc)
-        : scene_(scene), doc_(doc),
-          factory_([this](const SceneObject& o, const std::string& f) { return resolve(o, f); }) {}
+    Builder(Scene& scene, const XmlDocument& doc, UnknownProperties unknown)
+        : scene_(scene), doc_(doc), unread_(unknown == UnknownProperties::Fail),
+          factory_([this](const SceneObject& o, const std::string& f) { return resolve(o, f); }, unread_) {}
 
     void build() {
         scene_.contentHash = 1469598103934665603ULL;
@@ -46,7 +66,11 @@ public:
         std::vector<std::pair<const SceneObject*, int>> areaEmitters;   // (emitter, shape index)
         bool haveSensor = false;
         for (const auto& c : doc_.root->children) {
-            if (c->tag == "shape") {
+            if (c->tag == "shape" && c->type == "shapegroup") {
+                checkShapeGroup(*c);
+            } else if (c->tag == "shape" && c->type == "instance") {
+                buildInstance(*c, areaEmitters);
+            } else if (c->tag == "shape") {
                 buildShape(*c, areaEmitters);
             } else if (c->tag == "bsdf") {
                 (void)bsdfIndex(*c);
@@ -75,21 +99,25 @@ public:
             scene_.emitters.push_back(std::move(emitter));
         }
         if (!haveSensor) {
-            // Mitsuba's default sensor: perspective, fov 45 along x, at the origin looking along +z,
-            // 768 x 576 film, box filter.
+            // Mitsuba's default sensor: perspective with a 50 mm lens (focalLengthFov), at the origin looking
+            // along +z, 768 x 576 film.
             Film film;
-            scene_.camera = PerspectiveCamera(Transform(), 45.0, FovAxis::X, film, 1e-2);
+            scene_.camera = PerspectiveCamera(Transform(), fullFrameFov(50), FovAxis::Diagonal, film, 1e-2);
         }
-        for (const auto& h : factory_.ignored) note(h);
+        scene_.ignoredHints = unread_.hints();
+        for (const auto& w : unread_.warnings())
+            scene_.warnings.push_back(w);
+        for (const auto& w : factory_.warnings)
+            scene_.warnings.push_back(w);
         scene_.finalize();
     }
 
 private:
     Scene& scene_;
     const XmlDocument& doc_;
+    UnreadProperties unread_;
     PluginFactory factory_;
-    std::map<const SceneObject*, int> bsdfIndices_;
-    std::set<std::string> noted_;
+    std::map<const SceneObject*, int> bsdfIndices_; // by declaration (SceneObject::declaration())
 
     std::string resolve(const SceneObject& o, const std::string& filename) {
         fs::path p = filename;
@@ -100,38 +128,65 @@ private:
             const fs::path main = fs::path(scene_.filename).parent_path() / p;
             p = fs::exists(local) || !fs::exists(main) ? local : main;
         }
-        if (!fs::exists(p)) o.fail("file not found: " + p.string());
+        if (!fs::exists(p)) o.fail("file not found: " + p.string() + didYouMean(p));
         hashFile(scene_.contentHash, p.string());
         return p.string();
     }
 
-    void note(const std::string& hint) {
-        if (noted_.insert(hint).second) scene_.ignoredHints.push_back(hint);
-    }
-
-    void finish(const SceneObject& o, const std::set<std::string>& hints = {}) {
-        for (const auto& key : o.checkUnused(hints)) note(o.tag + " " + o.type + ": " + key);
-    }
+    void finish(const SceneObject& o, const std::set<std::string>& hints = {}) { unread_.check(o, hints); }
 
     int bsdfIndex(const SceneObject& o) {
-        auto it = bsdfIndices_.find(&o);
+        auto it = bsdfIndices_.find(o.declaration());
         if (it != bsdfIndices_.end()) return it->second;
         const int index = int(scene_.bsdfs.size());
         scene_.bsdfs.push_back({factory_.bsdf(o), o.id, o.file + ':' + std::to_string(o.line)});
-        bsdfIndices_[&o] = index;
+        bsdfIndices_[o.declaration()] = index;
         return index;
     }
 
-    void buildShape(const SceneObject& o, std::vector<std::pair<const SceneObject*, int>>& areaEmitters) {
+    // Mitsuba's `shapegroup`: shapes placed only through `instance`s (it renders nothing itself).
+    void checkShapeGroup(const SceneObject& o) {
+        for (const auto& c : o.children) {
+            if (c->tag != "shape") c->fail("a shapegroup holds shapes only");
+            if (c->type == "shapegroup" || c->type == "instance") c->fail("shapegroups do not nest");
+            if (!c->childrenWithTag("emitter").empty()) c->fail("a shape in a shapegroup cannot emit (as in Mitsuba)");
+        }
+        finish(o);
+    }
+
+    // Mitsuba's `instance`: its shapegroup's shapes, each placed by the instance's toWorld after its own.
+    // The shapes are copied into the scene (flattened), so every method sees ordinary geometry; memory
+    // grows with the number of instances.
+    void buildInstance(const SceneObject& o, std::vector<std::pair<const SceneObject*, int>>& areaEmitters) {
+        const SceneObject* group = nullptr;
+        for (const auto& c : o.children) {
+            if (c->tag != "shape" || c->type != "shapegroup") c->fail("an instance takes one <ref> to a shapegroup");
+            if (group) c->fail("an instance takes one shapegroup");
+            group = c.get();
+        }
+        if (!group) o.fail("an instance needs a <ref> to a shapegroup");
         const Transform toWorld = o.getTransform("toWorld", Transform());
+        for (const auto& shape : group->children)
+            buildShape(*shape, areaEmitters, toWorld);
+        finish(o);
+    }
+
+    // `placement` puts the shape's own toWorld into the scene (an instance's transform; identity otherwise).
+    void buildShape(const SceneObject& o, std::vector<std::pair<const SceneObject*, int>>& areaEmitters,
+                    const Transform& placement = Transform()) {
+        const Transform toWorld = placement * o.getTransform("toWorld", Transform());
         const bool flip = o.getBoolean("flipNormals", false);
         Shape shape;
         MeshLoadReport report;
         auto loadMesh = [&](TriangleMesh mesh, bool loaderFlippedV) {
-            // Mitsuba's obj plugin flips v by default (flipTexCoords = true) and loadObj already does;
-            // the other formats do not. Undo or apply the flip when the scene asks otherwise.
-            if (o.getBoolean("flipTexCoords", loaderFlippedV) != loaderFlippedV)
-                for (auto& uv : mesh.uvs) uv.y = 1.0f - uv.y;
+            // Texture coordinates as Mitsuba reads each format: obj flips v (flipTexCoords, default true;
+            // loadObj already flips), ply uses them as stored and reads flipTexCoords (default false) only in
+            // Mitsuba 3.4 and later (a 0.6 scene's flipTexCoords on a ply is unread, as in Mitsuba 0.6);
+            // serialized meshes and the built-in shapes have no such option.
+            const bool hasFlipOption = o.type == "obj" || (o.type == "ply" && o.syntax == SceneSyntax::Mitsuba3);
+            if (hasFlipOption && o.getBoolean("flipTexCoords", loaderFlippedV) != loaderFlippedV)
+                for (auto& uv : mesh.uvs)
+                    uv.y = 1.0f - uv.y;
             if (o.getBoolean("faceNormals", false)) mesh.normals.clear();
             transformMesh(mesh, toWorld);
             return Shape::triangles(std::move(mesh), flip);
@@ -159,7 +214,8 @@ private:
             } else if (o.type == "disk") {
                 shape = Shape::disk(toWorld, flip);
             } else {
-                o.fail("unknown shape type (lt reads obj, ply, serialized, rectangle, cube, sphere, disk)");
+                o.fail("unknown shape type (lt reads obj, ply, serialized, rectangle, cube, sphere, disk, shapegroup, "
+                       "instance)");
             }
         } catch (const Error& e) {
             const std::string what = e.what();
@@ -244,14 +300,17 @@ private:
                 scene_.integrator.sampleCount = c->getInteger("sampleCount", 4);
                 if (scene_.integrator.sampleCount < 1) c->fail("sampleCount must be at least 1");
                 finish(*c, {"scramble", "dimension", "resolution"});
-                if (c->type != "independent") note("sampler " + c->type + ": type (lt uses its own sample generator)");
+                if (c->type != "independent")
+                    unread_.addHint("sampler " + c->type + ": type (lt uses its own sample generator)");
             } else {
                 c->fail("not allowed inside a <sensor>");
             }
         }
         (void)haveFilm;
-        const double fov = o.getFloat("fov", 45.0);
-        const std::string axisName = o.getString("fovAxis", "x");
+        if (o.has("fov") && o.has("focalLength")) o.fail("give fov or focalLength, not both");
+        // Without fov, Mitsuba takes the focal length's diagonal field of view (fovAxis then unread).
+        const double fov = o.has("fov") ? o.getFloat("fov") : focalLengthFov(o);
+        const std::string axisName = o.has("fov") ? o.getString("fovAxis", "x") : "diagonal";
         FovAxis axis;
         if (axisName == "x") axis = FovAxis::X;
         else if (axisName == "y") axis = FovAxis::Y;
@@ -324,11 +383,12 @@ private:
 
 } // namespace
 
-std::unique_ptr<Scene> loadScene(const std::string& filename, const std::map<std::string, std::string>& parameters) {
+std::unique_ptr<Scene> loadScene(const std::string& filename, const std::map<std::string, std::string>& parameters,
+                                 UnknownProperties unknown) {
     auto scene = std::make_unique<Scene>();
     scene->filename = filename;
     const XmlDocument doc = parseSceneXml(filename, parameters);
-    Builder(*scene, doc).build();
+    Builder(*scene, doc, unknown).build();
     return scene;
 }
 

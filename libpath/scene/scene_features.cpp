@@ -1,5 +1,6 @@
 #include "scene/scene_features.h"
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 
@@ -68,10 +69,17 @@ SceneFeatures analyzeScene(const Scene& scene) {
     for (const auto& e : scene.emitters)
         if (e->isInfinite() && !(e->flags() & EmitterDeltaDirection)) f.environmentLight = true;
     f.environmentReason = f.environmentLight ? "an environment emitter (constant or envmap)" : "no environment emitter";
-    for (const auto& e : scene.emitters)
-        if (e->isDelta()) f.deltaLights = true;
-    f.deltaLightReason = f.deltaLights ? "point, spot or directional emitters: paths cannot hit them"
-                                       : "all emitters have area";
+    std::vector<std::string> deltaTypes, hittableTypes;
+    for (const auto& e : scene.emitters) {
+        auto& names = e->isDelta() ? deltaTypes : hittableTypes;
+        if (std::find(names.begin(), names.end(), e->typeName()) == names.end()) names.push_back(e->typeName());
+    }
+    f.deltaLights = !deltaTypes.empty();
+    f.deltaLightReason =
+        f.deltaLights ? "delta emitters (" + list(deltaTypes) + "): paths cannot hit them"
+        : hittableTypes.empty()
+            ? "no emitters"
+            : "no point, spot or directional emitter: paths can hit every emitter (" + list(hittableTypes) + ")";
     return f;
 }
 

@@ -1,5 +1,6 @@
 #include "scene/scene_object.h"
 
+#include <algorithm>
 #include <sstream>
 
 #include "math/error.h"
@@ -44,8 +45,8 @@ const Property* lookup(const SceneObject& o, const std::string& key, std::initia
         }
     std::string expected;
     for (auto t : types) expected += (expected.empty() ? "" : " or ") + std::string(propertyTypeName(t));
-    throw Error(o.file + ':' + std::to_string(p.line) + ": property '" + key + "' of <" + o.tag + " type=\"" + o.type +
-                "\"> must be " + expected + ", not " + propertyTypeName(p.type));
+    throw Error(o.file + ':' + std::to_string(p.line) + ": property '" + p.name + "' of <" + o.tag + " type=\"" +
+                o.type + "\"> must be " + expected + ", not " + propertyTypeName(p.type));
 }
 
 template <class T> T missing(const SceneObject& o, const std::string& key, const std::optional<T>& def) {
@@ -109,18 +110,38 @@ std::shared_ptr<const SceneObject> SceneObject::namedChild(const std::string& n)
     return nullptr;
 }
 
-std::vector<std::string> SceneObject::checkUnused(const std::set<std::string>& ignorableHints) const {
-    std::vector<std::string> ignored;
-    for (const auto& [key, p] : props) {
+void UnreadProperties::check(const SceneObject& o, const std::set<std::string>& hints) {
+    for (const auto& [key, p] : o.props) {
         if (p.queried) continue;
-        if (ignorableHints.count(key)) {
-            ignored.push_back(key);
+        const std::string plugin = "<" + o.tag + " type=\"" + o.type + "\">";
+        const std::string place = o.file + ':' + std::to_string(p.line);
+        if (hints.count(key)) {
+            addHint(o.tag + " " + o.type + ": " + p.name);
             continue;
         }
-        throw Error(file + ':' + std::to_string(p.line) + ": <" + tag + " type=\"" + type +
-                    "\"> does not support the property '" + key + "'");
+        if (strict_)
+            throw Error(place + ": " + plugin + " does not read the property '" + p.name +
+                        "' (an error with --strict; without it lt warns and ignores it, as Mitsuba does)");
+        const std::string k = plugin + ": property '" + p.name + "'";
+        auto it = std::find_if(unknown_.begin(), unknown_.end(), [&](const Unknown& u) { return u.key == k; });
+        if (it == unknown_.end())
+            unknown_.push_back({k, place});
+        else
+            ++it->others;
     }
-    return ignored;
+}
+
+void UnreadProperties::addHint(const std::string& hint) {
+    if (std::find(hints_.begin(), hints_.end(), hint) == hints_.end()) hints_.push_back(hint);
+}
+
+std::vector<std::string> UnreadProperties::warnings() const {
+    std::vector<std::string> out;
+    for (const auto& u : unknown_)
+        out.push_back(u.first + ": " + u.key + " is not read by lt and was ignored" +
+                      (u.others ? " (also at " + std::to_string(u.others) + " other place(s))" : "") +
+                      "; --strict makes this an error");
+    return out;
 }
 
 } // namespace lt

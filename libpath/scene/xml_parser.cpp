@@ -1,5 +1,6 @@
-// Mitsuba 0.5/0.6 XML -> SceneObject tree (see scene_object.h). pugixml does the XML; this file knows
-// Mitsuba's element vocabulary: properties, transforms, nested objects, ref, include, default.
+// Mitsuba XML -> SceneObject tree (see scene_object.h). pugixml does the XML; this file knows Mitsuba's
+// element vocabulary: properties, transforms, nested objects, ref, include, default. A 2.x/3.x file's names
+// are translated to 0.6's as they are read (mitsuba3_syntax.h).
 #include <pugixml.hpp>
 
 #include <algorithm>
@@ -10,6 +11,8 @@
 #include <sstream>
 
 #include "math/error.h"
+#include "scene/missing_file.h"
+#include "scene/mitsuba3_syntax.h"
 #include "scene/scene_object.h"
 
 namespace lt {
@@ -25,6 +28,7 @@ const std::set<std::string> UnsupportedTags = {"medium", "phase", "subsurface", 
 
 struct Source {
     std::string file;
+    SceneSyntax syntax = SceneSyntax::Mitsuba06; // from the root's version attribute
     std::string text;
     std::vector<size_t> lineStarts;
     int lineOf(ptrdiff_t offset) const {
@@ -55,9 +59,9 @@ private:
     std::vector<std::string> includeStack_;
     std::vector<std::unique_ptr<Source>> sources_;
 
-    const Source& load(const std::string& filename) {
+    Source& load(const std::string& filename) {
         std::ifstream in(filename, std::ios::binary);
-        if (!in) throw Error(filename + ": cannot open scene file");
+        if (!in) throw Error(filename + ": cannot open scene file" + didYouMean(filename));
         auto src = std::make_unique<Source>();
         src->file = filename;
         std::ostringstream ss;
@@ -74,7 +78,7 @@ private:
         const std::string canonical = fs::weakly_canonical(filename).string();
         if (std::find(includeStack_.begin(), includeStack_.end(), canonical) != includeStack_.end())
             throw Error(filename + ": include cycle");
-        const Source& src = load(filename);
+        Source& src = load(filename);
         pugi::xml_document xml;
         const pugi::xml_parse_result res = xml.load_buffer(src.text.data(), src.text.size());
         if (!res)
@@ -83,6 +87,11 @@ private:
         if (std::string(root.name()) != "scene")
             throw Error(filename + ':' + std::to_string(src.lineOf(root.offset_debug())) +
                         ": the root element must be <scene>, not <" + root.name() + ">");
+        try {
+            src.syntax = sceneSyntaxOfVersion(root.attribute("version").value());
+        } catch (const Error& e) {
+            fail(src, root, e.what());
+        }
         if (isMain) scene.line = src.lineOf(root.offset_debug());
         includeStack_.push_back(canonical);
         // <default> values first, wherever they stand: they apply to the whole file (Mitsuba 0.6).
@@ -277,9 +286,11 @@ private:
     }
 
     void addProperty(const Source& src, const pugi::xml_node& node, SceneObject& owner) {
-        const std::string tag = node.name();
-        const std::string name = attr(src, node, "name", true);
+        const std::string tag = propertyTag(src, node);
+        const std::string written = attr(src, node, "name", true);
+        const std::string name = nameAttr(src, node, true);
         Property p;
+        p.name = written;
         p.line = src.lineOf(node.offset_debug());
         if (tag == "float") {
             p.type = Property::Type::Float;
@@ -318,9 +329,18 @@ private:
         owner.props.emplace(name, std::move(p));
     }
 
+    // A property's tag in 0.6's vocabulary, and a property's or named object's name.
+    static std::string propertyTag(const Source& src, const pugi::xml_node& node) {
+        return src.syntax == SceneSyntax::Mitsuba3 ? mitsuba3PropertyTag(node.name()) : node.name();
+    }
+    std::string nameAttr(const Source& src, const pugi::xml_node& node, bool required = false) const {
+        const std::string written = attr(src, node, "name", required);
+        return src.syntax == SceneSyntax::Mitsuba3 ? mitsuba3PropertyName(written) : written;
+    }
+
     void parseChild(const pugi::xml_node& node, SceneObject& owner, const Source& src) {
         if (node.type() != pugi::node_element) return;
-        const std::string tag = node.name();
+        const std::string tag = propertyTag(src, node);
         static const std::set<std::string> PropertyTags = {"float", "integer", "boolean", "string", "rgb",
                                                            "srgb",  "spectrum", "point", "vector", "transform"};
         if (PropertyTags.count(tag)) {
@@ -330,11 +350,13 @@ private:
             obj->tag = tag;
             obj->type = attr(src, node, "type");
             obj->id = attr(src, node, "id");
-            obj->name = attr(src, node, "name");
+            obj->name = nameAttr(src, node);
             obj->file = src.file;
             obj->line = src.lineOf(node.offset_debug());
+            obj->syntax = src.syntax;
             if (obj->type.empty()) fail(src, node, "missing attribute 'type'");
             for (const pugi::xml_node& c : node.children()) parseChild(c, *obj, src);
+            if (src.syntax == SceneSyntax::Mitsuba3) translateMitsuba3Plugin(*obj);
             if (!obj->id.empty()) {
                 if (ids_.count(obj->id)) fail(src, node, "id '" + obj->id + "' is already defined");
                 ids_[obj->id] = obj;
@@ -344,11 +366,12 @@ private:
             const std::string id = attr(src, node, "id", true);
             auto it = ids_.find(id);
             if (it == ids_.end()) fail(src, node, "reference to undefined id '" + id + "'");
-            const std::string name = attr(src, node, "name");
+            const std::string name = nameAttr(src, node);
             if (!name.empty() && name != it->second->name) {
                 // A named reference (e.g. a texture used as "reflectance"): a renamed alias of the object.
                 auto alias = std::make_shared<SceneObject>(*it->second);
                 alias->name = name;
+                alias->original = it->second->declaration();
                 owner.children.push_back(alias);
             } else {
                 owner.children.push_back(it->second);

@@ -73,6 +73,7 @@ BitmapTexture::BitmapTexture(const std::string& filename, double gamma, const Ve
             for (int c = 0; c < 3; ++c)
                 out[c] = decode(p[colorChannels == 3 ? c : 0]);
             sum += texel(x, y);
+            maximum_ = max(maximum_, texel(x, y));
         }
     average_ = sum / (double(width_) * double(height_));
 }

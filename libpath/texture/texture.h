@@ -18,6 +18,8 @@ public:
     // Mean over the texture's domain: used where one number must stand for the texture (albedo
     // estimates in lt-inspect, light power).
     [[nodiscard]] virtual Spectrum average() const = 0;
+    // Per-channel maximum over the domain: Mitsuba's energy-conservation check of phong and ward reads it.
+    [[nodiscard]] virtual Spectrum maximum() const = 0;
     [[nodiscard]] virtual bool isConstant() const { return false; }
 };
 
@@ -26,6 +28,7 @@ public:
     explicit ConstantTexture(const Spectrum& value) : value_(value) {}
     [[nodiscard]] Spectrum eval(const Vec2&) const override { return value_; }
     [[nodiscard]] Spectrum average() const override { return value_; }
+    [[nodiscard]] Spectrum maximum() const override { return value_; }
     [[nodiscard]] bool isConstant() const override { return true; }
 
 private:
@@ -40,6 +43,7 @@ public:
         : color0_(color0), color1_(color1), offset_(offset), scale_(scale) {}
     [[nodiscard]] Spectrum eval(const Vec2& uv) const override;
     [[nodiscard]] Spectrum average() const override { return (color0_ + color1_) * 0.5; }
+    [[nodiscard]] Spectrum maximum() const override { return max(color0_, color1_); }
 
 private:
     Spectrum color0_, color1_;
@@ -55,6 +59,7 @@ public:
     BitmapTexture(const std::string& filename, double gamma, const Vec2& offset, const Vec2& scale);
     [[nodiscard]] Spectrum eval(const Vec2& uv) const override;
     [[nodiscard]] Spectrum average() const override { return average_; }
+    [[nodiscard]] Spectrum maximum() const override { return maximum_; }
     [[nodiscard]] int width() const { return width_; }
     [[nodiscard]] int height() const { return height_; }
 
@@ -62,7 +67,7 @@ private:
     [[nodiscard]] Spectrum texel(int x, int y) const;
     int width_ = 0, height_ = 0;
     std::vector<float> rgb_;
-    Spectrum average_;
+    Spectrum average_, maximum_;
     Vec2 offset_, scale_;
 };
 

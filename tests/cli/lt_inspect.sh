@@ -23,6 +23,15 @@ out=$("$bin/lt-inspect" "$tmp/bad.xml" 2>&1); code=$?
 check "bad number: non-zero exit" '[ $code -ne 0 ]'
 check "bad number: one line with file and line" '[ "$out" = "lt-inspect: error: $tmp/bad.xml:3: <float>: '"'"'x'"'"' is not a number" ]'
 
+# A property lt does not read: a warning and a description (as Mitsuba renders it); --strict: one error line.
+printf '<scene version="0.6.0">\n<shape type="sphere">\n<bsdf type="conductor"><float name="alpha" value="0.1"/></bsdf>\n</shape>\n</scene>\n' > "$tmp/lenient.xml"
+out=$("$bin/lt-inspect" "$tmp/lenient.xml" 2>&1); code=$?
+check "unread property: exit 0" '[ $code -eq 0 ]'
+check "unread property: warned with file and line" 'echo "$out" | grep -q "^warning    $tmp/lenient.xml:3: <bsdf type=\"conductor\">: property '"'"'alpha'"'"' is not read by lt"'
+out=$("$bin/lt-inspect" "$tmp/lenient.xml" --strict 2>&1); code=$?
+check "unread property, --strict: non-zero exit" '[ $code -ne 0 ]'
+check "unread property, --strict: one error line" '[ $(echo "$out" | wc -l) -eq 1 ] && echo "$out" | grep -q "^lt-inspect: error: $tmp/lenient.xml:3: "'
+
 "$bin/lt-inspect" "$src/scenes/cornell-spheres/scene.xml" --no-such-option >/dev/null 2>&1; code=$?
 check "unknown option: non-zero exit" '[ $code -ne 0 ]'
 check "-D overrides a scene default" '"$bin/lt-inspect" "$src/scenes/cornell-spheres/scene.xml" -D res=64 --json | python3 -c "import json,sys; assert json.load(sys.stdin)[\"film\"][\"width\"]==64"'

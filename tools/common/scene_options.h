@@ -1,5 +1,8 @@
-// Scene options several tools share: loading with -D parameters, --resolution, and the loader's warnings.
+// Scene options several tools share: loading with -D parameters, --resolution, --strict, and the loader's
+// warnings.
 #pragma once
+
+#include <CLI/CLI.hpp>
 
 #include <iostream>
 #include <memory>
@@ -13,12 +16,23 @@
 
 namespace lt::tool {
 
+// --strict: a scene property lt does not read stops the load (naming file and line) instead of a warning.
+inline void addStrictFlag(CLI::App& app, bool& strict) {
+    app.add_flag("--strict", strict,
+                 "stop at a scene property lt does not read (default: warn once per plugin and property and ignore "
+                 "it, as Mitsuba does)");
+}
+
+inline UnknownProperties unknownProperties(bool strict) {
+    return strict ? UnknownProperties::Fail : UnknownProperties::Warn;
+}
+
 // Load SCENE with its -D NAME=VALUE parameters and an optional "WxH" film size (the horizontal field of
 // view is kept); print the loader's warnings unless quiet.
 inline std::unique_ptr<Scene> loadSceneWithOptions(const std::string& tool, const std::string& path,
                                                    const std::vector<std::string>& defines,
-                                                   const std::string& resolution, bool quiet) {
-    auto scene = loadScene(path, parseDefines(defines));
+                                                   const std::string& resolution, bool strict, bool quiet) {
+    auto scene = loadScene(path, parseDefines(defines), unknownProperties(strict));
     if (!resolution.empty()) {
         int w = 0, h = 0;
         char x = 0, rest = 0;

@@ -27,7 +27,11 @@
 #include <string>
 #include <vector>
 
+#include "bsdf/blend.h"
+#include "bsdf/conductor.h"
+#include "bsdf/dielectric.h"
 #include "bsdf/diffuse.h"
+#include "bsdf/mask.h"
 #include "bsdf/half_vector.h"
 #include "bsdf/phong.h"
 #include "bsdf/plastic.h"
@@ -330,6 +334,31 @@ std::vector<Config> makeConfigs() {
             configs.push_back({"ward variant " + std::to_string(int(variant)) + " th=" + std::to_string(th),
                                [=] { return makeBsdf<Ward>(p); }, dirFromAngles(th, 65), 0.05, 0.3});
         }
+    for (double th : thetas) {
+        RoughConductorParams rc;
+        rc.alphaU = rc.alphaV = 0.1;
+        configs.push_back({"blendbsdf(diffuse, roughconductor) th=" + std::to_string(th),
+                           [=] {
+                               return makeBsdf<BlendBsdf>(BlendParams{
+                                   tex(0.3), makeBsdf<Diffuse>(DiffuseParams{tex(0.8)}), makeBsdf<RoughConductor>(rc)});
+                           },
+                           dirFromAngles(th, 50), 0.3, 0.3});
+        RoughDielectricParams rd;
+        rd.alphaU = rd.alphaV = 0.3;
+        for (bool below : {false, true})
+            configs.push_back(
+                {"blendbsdf(dielectric, roughdielectric) th=" + std::to_string(th) + (below ? " inside" : " outside"),
+                 [=] {
+                     return makeBsdf<BlendBsdf>(BlendParams{tex(0.5), makeBsdf<Dielectric>(DielectricParams{}),
+                                                            makeBsdf<RoughDielectric>(rd)});
+                 },
+                 dirFromAngles(th, 50, below), 0.3, 0.3});
+        configs.push_back({"mask(roughconductor) th=" + std::to_string(th),
+                           [=] {
+                               return makeBsdf<MaskBsdf>(MaskParams{tex(0.4), makeBsdf<RoughConductor>(rc)});
+                           },
+                           dirFromAngles(th, 50), 0.1, 0.1});
+    }
     return configs;
 }
 
@@ -375,7 +404,9 @@ TEST_CASE("chi-square: roughdielectric (GGX, anisotropic, extreme eta) sampling 
 
 TEST_CASE("chi-square: roughplastic sampling matches pdf", "[bsdf][chi2]") { runFamily({"roughplastic"}); }
 
-TEST_CASE("chi-square: phong and ward sampling match pdf", "[bsdf][chi2]") { runFamily({"phong", "ward"}); }
+TEST_CASE("chi-square: phong, ward, blendbsdf and mask sampling match pdf", "[bsdf][chi2]") {
+    runFamily({"phong", "ward", "blendbsdf", "mask"});
+}
 
 TEST_CASE("chi-square p-value helper matches known quantiles", "[bsdf]") {
     // Table values: the 0.95 quantile of chi2 with 1 dof is 3.841459, with 10 dof 18.307038, with 100

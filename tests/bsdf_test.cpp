@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "bsdf/blend.h"
 #include "bsdf/conductor.h"
 #include "bsdf/conductor_presets.h"
 #include "bsdf/dielectric.h"
@@ -18,6 +19,7 @@
 #include "bsdf/fresnel.h"
 #include "bsdf/half_vector.h"
 #include "bsdf/ior_presets.h"
+#include "bsdf/mask.h"
 #include "bsdf/microfacet.h"
 #include "bsdf/phong.h"
 #include "bsdf/plastic.h"
@@ -64,6 +66,40 @@ struct Named {
 };
 
 // Every BSDF kind, with a few parameter choices each.
+struct Blend {
+    std::string name;
+    BlendParams params;
+};
+
+// Mixtures of a glossy with a diffuse lobe, of a delta with a glossy one, and of two refracting BSDFs
+// with the same interface.
+std::vector<Blend> blends() {
+    RoughConductorParams rc;
+    rc.alphaU = rc.alphaV = 0.1;
+    RoughPlasticParams rp;
+    rp.alpha = 0.2;
+    RoughDielectricParams rd;
+    rd.alphaU = rd.alphaV = 0.3;
+    return {{"blendbsdf(diffuse, roughconductor)",
+             {tex(0.3), std::make_shared<Diffuse>(DiffuseParams{tex(0.8)}), std::make_shared<RoughConductor>(rc)}},
+            {"blendbsdf(conductor, roughplastic)",
+             {tex(0.6), std::make_shared<Conductor>(ConductorParams{}), std::make_shared<RoughPlastic>(rp)}},
+            {"blendbsdf(dielectric, roughdielectric)",
+             {tex(0.5), std::make_shared<Dielectric>(DielectricParams{}), std::make_shared<RoughDielectric>(rd)}}};
+}
+
+// Cut-outs over a two-sided diffuse surface and over a rough conductor. (Grey opacities: the energy test
+// bounds the largest channel of each sample's weight, which a colour opposite the nested BSDF's would
+// break without breaking energy conservation per channel.)
+std::vector<std::pair<std::string, MaskParams>> masks() {
+    RoughConductorParams rc;
+    rc.alphaU = rc.alphaV = 0.2;
+    return {{"mask(twosided(diffuse))",
+             {tex(0.3),
+              std::make_shared<TwoSided>(TwoSidedParams{std::make_shared<Diffuse>(DiffuseParams{tex(0.8)}), nullptr})}},
+            {"mask(roughconductor)", {tex(0.6), std::make_shared<RoughConductor>(rc)}}};
+}
+
 std::vector<Named> allBsdfs() {
     std::vector<Named> v;
     v.push_back({"diffuse", std::make_shared<Diffuse>(DiffuseParams{tex(0.8)})});
@@ -107,6 +143,10 @@ std::vector<Named> allBsdfs() {
         p.alphaV = 0.3;
         v.push_back({"ward variant " + std::to_string(int(variant)), std::make_shared<Ward>(p)});
     }
+    for (const Blend& b : blends())
+        v.push_back({b.name, std::make_shared<BlendBsdf>(b.params)});
+    for (const auto& [name, params] : masks())
+        v.push_back({name, std::make_shared<MaskBsdf>(params)});
     return v;
 }
 
@@ -391,6 +431,43 @@ TEST_CASE("delta lobes: deltaEval agrees with sample, eval/pdf are zero", "[bsdf
         {"twosided(conductor)", std::make_shared<TwoSided>(TwoSidedParams{
                                     std::make_shared<Conductor>(ConductorParams{}), nullptr})},
     };
+    for (const Blend& b : blends())
+        if (b.params.first->hasDelta() || b.params.second->hasDelta())
+            deltas.push_back({b.name, std::make_shared<BlendBsdf>(b.params)});
+    for (const auto& [name, params] : masks())
+        deltas.push_back({name, std::make_shared<MaskBsdf>(params)});
+    {
+        // The straight-through lobe carries 1 - alpha with probability 1 - lum(alpha).
+        MaskParams coloured = masks()[1].second;
+        coloured.opacity = std::make_shared<ConstantTexture>(Spectrum(0.9, 0.5, 0.1));
+        const MaskBsdf m(coloured);
+        const Vec3 wi = dirFromAngles(30, 40);
+        const auto s = m.sample(wi, UV, Transport::Radiance, 0.99, {0.5, 0.5});
+        REQUIRE(s);
+        const double q = Spectrum(0.9, 0.5, 0.1).luminance();
+        CHECK(length(s->wo + wi) < 1e-12);
+        CHECK(s->pdf == Approx(1 - q));
+        CHECK(s->weight.r == Approx(0.1 / (1 - q)));
+        CHECK(s->weight.b == Approx(0.9 / (1 - q)));
+        CHECK(s->lobe == (LobeDelta | LobeTransmission));
+    }
+    // Two mirrors blended: the one mirror direction carries both lobes, (1 - w) 1 + w F_Cu.
+    ConductorParams mirror;
+    mirror.eta = lookupConductor("none")->eta;
+    mirror.k = lookupConductor("none")->k;
+    const auto copper = std::make_shared<Conductor>(ConductorParams{});
+    const BlendBsdf mirrors(BlendParams{tex(0.25), std::make_shared<Conductor>(mirror), copper});
+    deltas.push_back({"blendbsdf(mirror, copper)", std::make_shared<BlendBsdf>(mirrors)});
+    {
+        const Vec3 wi = dirFromAngles(40, 10);
+        const auto s = mirrors.sample(wi, UV, Transport::Radiance, 0.9, {0.5, 0.5});
+        const auto c = copper->sample(wi, UV, Transport::Radiance, 0.5, {0.5, 0.5});
+        REQUIRE(s);
+        REQUIRE(c);
+        CHECK(s->pdf == Approx(1));
+        CHECK(s->weight.r == Approx(0.75 + 0.25 * c->weight.r).epsilon(1e-12));
+        CHECK(s->weight.b == Approx(0.75 + 0.25 * c->weight.b).epsilon(1e-12));
+    }
     Pcg32 rng(5, 9);
     for (const Named& n : deltas) {
         INFO(n.name);

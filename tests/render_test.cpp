@@ -132,6 +132,30 @@ TEST_CASE("a convex diffuse sphere under a uniform environment has radiance albe
     }
 }
 
+TEST_CASE("a cut-out (mask) lets 1 - opacity of the sky through", "[render]") {
+    // A black plane masked to opacity 0.3 fills the view in front of a sky of radiance 2: each camera path
+    // passes the mask with probability 0.7 (seeing 2) or stops on the black surface, so a pixel's value is
+    // 2 x Bernoulli(0.7) per sample: mean 1.4. The tolerance is the mean's standard error (5 sigma).
+    test::TempDir dir;
+    const auto scene = loadScene(dir.write("mask.xml", R"(<scene version="0.6.0">
+<sensor type="perspective"><float name="fov" value="30"/><film type="hdrfilm"><integer name="width" value="16"/>
+<integer name="height" value="16"/></film></sensor>
+<shape type="rectangle"><transform name="toWorld"><scale value="100"/><translate z="5"/></transform>
+  <bsdf type="mask"><float name="opacity" value="0.3"/>
+    <bsdf type="twosided"><bsdf type="diffuse"><rgb name="reflectance" value="0"/></bsdf></bsdf></bsdf></shape>
+<emitter type="constant"><rgb name="radiance" value="2"/></emitter>
+</scene>)"));
+    for (PixelMethod m : {PixelMethod::Bdpt, PixelMethod::PathTracing}) {
+        CAPTURE(int(m));
+        const int spp = 16;
+        const auto img = renderImage(*scene, m, spp, PathSettings{});
+        const PixelStats st = stats(img, 16, 0, 0, 16, 16);
+        const double n = 16.0 * 16.0 * spp;
+        const double sigma = 2 * std::sqrt(0.3 * 0.7 / n);
+        CHECK(std::abs(st.mean - 1.4) < 5 * sigma);
+    }
+}
+
 TEST_CASE("rendering is bit-identical whatever the thread count", "[render]") {
     test::TempDir dir;
     const auto scene = loadScene(test::furnaceBox(dir, 0.5, 4));

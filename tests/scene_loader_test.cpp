@@ -5,6 +5,7 @@
 #include <OpenImageIO/imageio.h>
 
 #include <cmath>
+#include <filesystem>
 
 #include "math/constants.h"
 #include "math/error.h"
@@ -106,6 +107,12 @@ TEST_CASE("the scenes shipped in scenes/ load and say what they need", "[loader]
     CHECK(analyzeScene(*d).environmentLight);
     for (const char* name : {"door-ajar", "three-planes"})
         CHECK(analyzeScene(*loadScene(test::shippedScene(name))).portals == 1);
+    // Every shipped scene reads without a property lt does not know (a typo would otherwise only warn).
+    for (const auto& entry : std::filesystem::directory_iterator(std::string(LT_SOURCE_DIR) + "/scenes"))
+        if (std::filesystem::exists(entry.path() / "scene.xml")) {
+            INFO(entry.path());
+            CHECK_NOTHROW(loadScene((entry.path() / "scene.xml").string(), {}, UnknownProperties::Fail));
+        }
 }
 
 TEST_CASE("shapes: every kind, with transforms and flipNormals", "[loader]") {
@@ -225,13 +232,23 @@ TEST_CASE("every BSDF kind builds from XML", "[loader]") {
         <bsdf type="diffuse"><texture type="checkerboard" name="reflectance"/></bsdf>
         <bsdf type="phong"><float name="exponent" value="80"/><rgb name="specularReflectance" value="0.3"/></bsdf>
         <bsdf type="ward"><string name="variant" value="ward-duer"/><float name="alpha" value="0.2"/>
-            <float name="alphaV" value="0.05"/></bsdf>)"));
-    REQUIRE(s->bsdfs.size() == 12);
+            <float name="alphaV" value="0.05"/></bsdf>
+        <bsdf type="blendbsdf"><float name="weight" value="0.2"/><bsdf type="diffuse"/>
+            <bsdf type="roughconductor"/></bsdf>
+        <bsdf type="mask"><float name="opacity" value="0.7"/><bsdf type="twosided"><bsdf type="diffuse"/></bsdf></bsdf>)"));
+    REQUIRE(s->bsdfs.size() == 14);
     const char* names[] = {"diffuse",         "twosided",  "dielectric",     "thindielectric",
                            "roughdielectric", "conductor", "roughconductor", "plastic",
-                           "roughplastic",    "diffuse",   "phong",          "ward"};
-    for (size_t i = 0; i < 12; ++i)
+                           "roughplastic",    "diffuse",   "phong",          "ward",
+                           "blendbsdf",       "mask"};
+    for (size_t i = 0; i < 14; ++i)
         CHECK(s->bsdfs[i].bsdf->typeName() == names[i]);
+    CHECK(describeBsdf(*s->bsdfs[13].bsdf) == "mask(twosided(diffuse))");
+    CHECK(s->bsdfs[13].bsdf->hasDelta());
+    CHECK(s->bsdfs[13].bsdf->hasTransmission());
+    CHECK(describeBsdf(*s->bsdfs[12].bsdf) == "blendbsdf(diffuse, roughconductor)");
+    CHECK(s->bsdfs[12].bsdf->hasGlossy());
+    CHECK(s->bsdfs[12].bsdf->hasDiffuse());
     // phong's Beckmann-equivalent roughness sqrt(2 / (n + 2)); ward's alphaU defaults to alpha (Mitsuba).
     CHECK(s->bsdfs[10].bsdf->roughness({0, 0}) == Approx(std::sqrt(2.0 / 82)));
     CHECK(s->bsdfs[11].bsdf->roughness({0, 0}) == Approx(0.05));
@@ -331,7 +348,7 @@ TEST_CASE("bad input: one clear error line naming file, line and element", "[loa
         sceneFile(dir, "<shape type=\"sphere\">\n<float name=\"radiuss\" value=\"1\"/>\n</shape>");
         CHECK_THAT(test::errorOf([&] { (void)loadScene(f, {}, UnknownProperties::Fail); }),
                    Equals(f + ":3: <shape type=\"sphere\"> does not read the property 'radiuss' (an error with "
-                              "--strict; without it lt warns and ignores it, as Mitsuba does)"));
+                              "--strict; without it lt warns and ignores it, as Mitsuba 0.6 does)"));
     }
     SECTION("property of the wrong type") {
         sceneFile(dir, "<shape type=\"sphere\">\n<string name=\"radius\" value=\"big\"/>\n</shape>");

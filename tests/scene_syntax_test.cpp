@@ -20,8 +20,8 @@ using Catch::Matchers::Equals;
 namespace {
 
 // One scene written twice: the Mitsuba 0.6 form and the 3.x form of every property the translation touches
-// (snake_case names, int_ior, the <int> tag, a named ref, to_uv, raw, sample_border, the conductor's
-// default material), each pair meaning the same to Mitsuba.
+// (snake_case names, int_ior, a named ref, to_uv, raw, sample_border, the conductor's default material),
+// each pair meaning the same to Mitsuba.
 const char* Scene06 = R"(<scene version="0.6.0">
   <integrator type="path"><integer name="maxDepth" value="5"/><integer name="rrDepth" value="3"/></integrator>
   <sensor type="perspective">
@@ -53,7 +53,7 @@ const char* Scene06 = R"(<scene version="0.6.0">
 
 const char* Scene3 = R"(<scene version="3.0.0">
   <default name="spp" value="8"/>
-  <integrator type="path"><int name="max_depth" value="5"/><integer name="rr_depth" value="3"/></integrator>
+  <integrator type="path"><integer name="max_depth" value="5"/><integer name="rr_depth" value="3"/></integrator>
   <sensor type="perspective">
     <float name="fov" value="40"/><string name="fov_axis" value="y"/><float name="near_clip" value="0.05"/>
     <transform name="to_world"><lookat origin="0, 1.2, 4" target="0, 0.5, 0" up="0, 1, 0"/></transform>
@@ -112,6 +112,9 @@ TEST_CASE("Mitsuba 3 names in 0.6's vocabulary", "[loader][syntax]") {
     CHECK(mitsuba3PropertyName("sample_border") == "highQualityEdges");
     CHECK(mitsuba3PropertyName("radius") == "radius");
     CHECK(mitsuba3PropertyTag("int") == "integer");
+    CHECK(mitsuba3Spelling("toWorld") == "to_world");
+    CHECK(mitsuba3Spelling("intIOR") == "int_ior");
+    CHECK(mitsuba3Spelling("cropOffsetX") == "crop_offset_x");
     CHECK(mitsuba3PropertyTag("float") == "float");
     CHECK(sceneSyntaxOfVersion("0.6.0") == SceneSyntax::Mitsuba06);
     CHECK(sceneSyntaxOfVersion("0.4.1") == SceneSyntax::Mitsuba06);
@@ -177,6 +180,30 @@ TEST_CASE("Mitsuba 3 plugin differences", "[loader][syntax]") {
         CHECK(mirror[0] == Approx(1.0));
         CHECK(mirror[2] == Approx(1.0));
         CHECK(copper[0] > copper[2] + 0.1);
+    }
+    SECTION("to_uv is applied as uv' = M uv, scale first here, then the translation") {
+        // M = T(0.25, 0.5) S(2, 3). At uv (0.1, 0.1): uv' = (0.45, 0.8), checks (int(0.9), int(1.6)) = (0, 1), odd:
+        // color1. At (0.3, 0.1): (0.85, 0.8), checks (1, 1), even: color0. (S (uv + t) would swap them.)
+        const auto s = loadScene(scene3(R"(<bsdf type="diffuse" id="d"><texture type="checkerboard" name="reflectance">
+  <rgb name="color0" value="0.8"/><rgb name="color1" value="0.1"/>
+  <transform name="to_uv"><scale x="2" y="3"/><translate x="0.25" y="0.5"/></transform></texture></bsdf>)"));
+        const Bsdf& d = *s->bsdfs.at(0).bsdf;
+        const Vec3 up(0, 0, 1);
+        CHECK(d.eval(up, up, {0.1, 0.1}, Transport::Radiance).r == Approx(0.1 / Pi));
+        CHECK(d.eval(up, up, {0.3, 0.1}, Transport::Radiance).r == Approx(0.8 / Pi));
+    }
+    SECTION("a conductor with eta alone takes k from the mirror, as Mitsuba 3") {
+        const auto s = loadScene(scene3(R"(<bsdf type="conductor" id="c"><rgb name="eta" value="0.2"/></bsdf>)"));
+        CHECK(s->warnings.empty());
+        CHECK(s->bsdfs.at(0).bsdf->typeName() == "conductor");
+    }
+    SECTION("a 0.6 name in a 3.x file is refused with its 3.x spelling") {
+        const std::string f = scene3(R"(<shape type="sphere"><transform name="toWorld"/></shape>)");
+        CHECK_THAT(loadError(f),
+                   Equals(f + ":2: <transform>: 'toWorld' is Mitsuba 0.6 spelling, but this file declares "
+                              "a 3.x version (write 'to_world')"));
+        const std::string g = scene3(R"(<bsdf type="dielectric"><float name="intIOR" value="1.5"/></bsdf>)");
+        CHECK_THAT(loadError(g), Contains("(write 'int_ior')"));
     }
     SECTION("to_uv that rotates has no 0.6 form") {
         const std::string f = scene3(R"(<texture type="checkerboard" id="t"/>
@@ -260,7 +287,31 @@ TEST_CASE("properties lt does not read: a warning once per plugin and property, 
     CHECK(contains(s->ignoredHints, "integrator path: usePathGuiding"));
     CHECK_THAT(loadError(f, UnknownProperties::Fail),
                Equals(f + ":3: <sensor type=\"perspective\"> does not read the property 'focusDistance' (an error with "
-                          "--strict; without it lt warns and ignores it, as Mitsuba does)"));
+                          "--strict; without it lt warns and ignores it, as Mitsuba 0.6 does)"));
+}
+
+TEST_CASE("a named ref its parent does not read is an error; a shape instanced twice is checked once",
+          "[loader][syntax]") {
+    test::TempDir dir;
+    const std::string f = dir.write("refs.xml", R"(<scene version="0.6.0">
+<texture type="checkerboard" id="wood"/>
+<bsdf type="roughconductor" id="b"><ref name="diffuseReflectance" id="wood"/></bsdf>
+</scene>
+)");
+    CHECK_THAT(loadError(f), Contains("not used by its <bsdf type=\"roughconductor\"> (check its name)"));
+    // Mitsuba 0.6's diffuse takes diffuseReflectance as well as reflectance.
+    const auto d = loadScene(dir.write("diffuse.xml", R"(<scene version="0.6.0">
+<texture type="checkerboard" id="wood"><rgb name="color0" value="0.7"/><rgb name="color1" value="0.7"/></texture>
+<bsdf type="diffuse" id="b"><ref name="diffuseReflectance" id="wood"/></bsdf></scene>)"));
+    const Vec3 up(0, 0, 1);
+    CHECK(d->bsdfs.at(0).bsdf->eval(up, up, {0.3, 0.3}, Transport::Radiance).r == Approx(0.7 / Pi));
+    const auto g = loadScene(dir.write("group.xml", R"(<scene version="0.6.0">
+<shape type="shapegroup" id="g"><shape type="sphere"><float name="radiuss" value="1"/></shape></shape>
+<shape type="instance"><ref id="g"/></shape>
+<shape type="instance"><ref id="g"/></shape>
+</scene>)"));
+    REQUIRE(g->warnings.size() == 1);
+    CHECK_THAT(g->warnings[0], !Contains("other place"));
 }
 
 TEST_CASE("a missing file whose name differs only in case: did you mean", "[loader][syntax]") {
@@ -307,15 +358,34 @@ TEST_CASE("lt-inspect's features: delta lights named by type, BSDFs counted per 
     }
 }
 
-TEST_CASE("a perspective sensor without fov takes Mitsuba's 50 mm lens", "[loader][syntax]") {
+TEST_CASE("a perspective sensor without fov takes Mitsuba's 50 mm lens; a scene without a sensor, Mitsuba's",
+          "[loader][syntax]") {
     test::TempDir dir;
+    // The lens's diagonal field of view (the 36 x 24 mm frame's diagonal, 43.27 mm) spans the film's diagonal:
+    // on a 40 x 30 film (diagonal 50 px) fov_x = 2 atan(tan(fov_d / 2) 40 / 50).
+    auto fovX = [](double mm) {
+        const double tanHalfDiagonal = std::sqrt(36.0 * 36.0 + 24.0 * 24.0) / (2 * mm);
+        return 2 * std::atan(tanHalfDiagonal * 40 / 50) * 180 / Pi;
+    };
     const auto s = loadScene(dir.write("lens.xml", R"(<scene version="0.6.0">
-<sensor type="perspective"><film type="hdrfilm"><integer name="width" value="36"/><integer name="height" value="24"/>
+<sensor type="perspective"><film type="hdrfilm"><integer name="width" value="40"/><integer name="height" value="30"/>
 </film></sensor></scene>)"));
-    // On a 36 x 24 film the diagonal of a 50 mm lens's frame maps to the film's diagonal: fov_x = 2 atan(18 / 50).
-    CHECK(s->camera.fovX() == Approx(2 * std::atan(18.0 / 50.0) * 180 / Pi).epsilon(1e-9));
+    CHECK(s->camera.fovX() == Approx(fovX(50)).epsilon(1e-9));
     const auto t = loadScene(dir.write("lens35.xml", R"(<scene version="0.6.0">
-<sensor type="perspective"><string name="focalLength" value="35mm"/><film type="hdrfilm">
-<integer name="width" value="36"/><integer name="height" value="24"/></film></sensor></scene>)"));
-    CHECK(t->camera.fovX() == Approx(2 * std::atan(18.0 / 35.0) * 180 / Pi).epsilon(1e-9));
+<sensor type="perspective"><string name="focalLength" value="35mm"/><string name="fovAxis" value="y"/>
+<film type="hdrfilm"><integer name="width" value="40"/><integer name="height" value="30"/></film></sensor></scene>)"));
+    CHECK(t->camera.fovX() == Approx(fovX(35)).epsilon(1e-9));
+    CHECK(t->warnings.empty()); // Mitsuba reads fovAxis with a focal length too (and ignores it)
+    // No sensor: fov 45 along x, in front of the shapes' box (z below its minimum) far enough back to see its
+    // larger extent in x and y: a box of [-1, 3] x [0, 2] x [0, 1] is seen from (1, 1, -4 / (2 tan 22.5 deg)).
+    const auto u = loadScene(dir.write("nosensor.xml", R"(<scene version="0.6.0">
+<shape type="cube"><transform name="toWorld"><scale x="2" y="1" z="0.5"/><translate x="1" y="1" z="0.5"/></transform>
+</shape></scene>)"));
+    CHECK(u->camera.fovX() == Approx(45));
+    const double distance = 4 / (2 * std::tan(22.5 * Pi / 180));
+    CHECK(u->camera.position().x == Approx(1));
+    CHECK(u->camera.position().y == Approx(1));
+    CHECK(u->camera.position().z == Approx(-distance));
+    CHECK(u->camera.forward().z == Approx(1));
+    CHECK(u->camera.film().width == 768);
 }

@@ -134,6 +134,19 @@ TEST_CASE("bitmap: 8-bit images are decoded from sRGB unless gamma says otherwis
           png + ": gamma -2.000000 is not supported (use -1 for sRGB, 0 for automatic or a positive exponent)");
 }
 
+TEST_CASE("bitmap: one channel as a grey texture, alpha read linearly (Mitsuba's channel)", "[texture]") {
+    TempDir dir;
+    const std::vector<unsigned char> rgba = {128, 64, 255, 10};
+    const std::string png = writeImage(dir.path / "rgba.png", 1, 1, 4, OIIO::TypeDesc::UINT8, rgba);
+    const double eps = 1e-5;
+    // Colour channels are decoded as the image is (sRGB here); alpha is a fraction as stored.
+    checkSpectrum(BitmapTexture(png, 0, kNoOffset, kUnitScale, "g").eval({0.5, 0.5}),
+                  Spectrum(srgbToLinear(64 / 255.0)), eps);
+    checkSpectrum(BitmapTexture(png, 0, kNoOffset, kUnitScale, "A").eval({0.5, 0.5}), Spectrum(10 / 255.0), eps);
+    CHECK(test::errorOf([&] { BitmapTexture(png, 0, kNoOffset, kUnitScale, "z"); }) ==
+          png + ": no channel 'z' (it has r, g, b, a)");
+}
+
 TEST_CASE("bitmap: unreadable files and non-finite pixels are errors naming the file", "[texture]") {
     TempDir dir;
     const std::string missing = (dir.path / "missing.png").string();

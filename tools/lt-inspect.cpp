@@ -501,6 +501,8 @@ int main(int argc, char** argv) {
                 if (scenePath.empty()) throw lt::Error(f.name + ": names no scene; give it with --scene");
                 const auto scene =
                     lt::loadScene(scenePath, lt::tool::parseDefines(defines), lt::tool::unknownProperties(strict));
+                for (const auto& w : scene->warnings)
+                    std::cerr << "lt-inspect: warning: " << w << '\n';
                 lt::file::checkSceneHash(info, scene->contentHash, f.name, scenePath);
                 lt::printManifoldReport(std::cout, *scene, all, limit ? limit : 10);
                 return 0;

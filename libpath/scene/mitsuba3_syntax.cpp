@@ -55,6 +55,20 @@ std::string mitsuba3PropertyName(const std::string& name) {
     return out;
 }
 
+std::string mitsuba3Spelling(const std::string& name06) {
+    for (const auto& [name3, name] : Mitsuba3Renames)
+        if (name == name06) return name3;
+    // Mitsuba 3's camel_to_underscore_case: an underscore before a capital that follows a lower-case
+    // letter, every capital lowered.
+    std::string out;
+    for (size_t i = 0; i < name06.size(); ++i) {
+        const auto c = static_cast<unsigned char>(name06[i]);
+        if (std::isupper(c) && i > 0 && std::islower(static_cast<unsigned char>(name06[i - 1]))) out += '_';
+        out += char(std::tolower(c));
+    }
+    return out;
+}
+
 std::string mitsuba3PropertyTag(const std::string& tag) { return tag == "int" ? "integer" : tag; }
 
 void translateMitsuba3Plugin(SceneObject& o) {
@@ -63,19 +77,28 @@ void translateMitsuba3Plugin(SceneObject& o) {
         p.line = o.line;
         o.props.emplace(key, std::move(p));
     };
-    if (o.tag == "bsdf" && (o.type == "conductor" || o.type == "roughconductor") && !o.has("material") &&
-        !o.has("eta") && !o.has("k")) {
-        Property p;
-        p.type = Property::Type::String;
-        p.string = "none";
-        add("material", p);
-    }
-    if (o.tag == "texture" && o.type == "bitmap") {
-        if (o.has("raw") && o.getBoolean("raw")) {
+    if (o.tag == "bsdf" && (o.type == "conductor" || o.type == "roughconductor") && !o.has("material")) {
+        if (!o.has("eta") && !o.has("k")) {
             Property p;
-            p.number = 1.0;
-            add("gamma", p);
+            p.type = Property::Type::String;
+            p.string = "none";
+            add("material", p);
+        } else {
+            for (const auto& [key, value] : {std::pair{"eta", 0.0}, std::pair{"k", 1.0}})
+                if (!o.has(key)) {
+                    Property p;
+                    p.type = Property::Type::Spectrum;
+                    p.spectrum = Spectrum(value);
+                    add(key, p);
+                }
         }
+    }
+    if (o.tag == "texture" && o.type == "bitmap" && o.has("raw") && o.getBoolean("raw")) {
+        Property p;
+        p.number = 1.0;
+        add("gamma", p);
+    }
+    if (o.tag == "texture") {
         if (o.has("toUv")) {
             const Transform t = o.getTransform("toUv");
             const Matrix4& m = t.matrix();

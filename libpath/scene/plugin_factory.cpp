@@ -1,10 +1,12 @@
 #include "scene/plugin_factory.h"
 
+#include "bsdf/blend.h"
 #include "bsdf/conductor.h"
 #include "bsdf/conductor_presets.h"
 #include "bsdf/dielectric.h"
 #include "bsdf/diffuse.h"
 #include "bsdf/ior_presets.h"
+#include "bsdf/mask.h"
 #include "bsdf/phong.h"
 #include "bsdf/plastic.h"
 #include "bsdf/roughconductor.h"
@@ -95,13 +97,14 @@ void PluginFactory::finish(const SceneObject& o, const std::set<std::string>& hi
     unread_.check(o, hints);
     for (const auto& c : o.children) {
         // Every nested object must have been consumed as a named texture or nested BSDF.
-        if (c->tag == "texture" && !c->name.empty() && textures_.count(c->declaration())) continue;
-        if (c->tag == "bsdf" && bsdfs_.count(c->declaration())) continue;
+        if ((c->tag == "texture" && !c->name.empty()) || c->tag == "bsdf")
+            if (used_.count(c.get())) continue;
         c->fail("not used by its <" + o.tag + " type=\"" + o.type + "\"> (check its name)");
     }
 }
 
 std::shared_ptr<const Texture> PluginFactory::texture(const SceneObject& o) {
+    used_.insert(&o);
     if (auto it = textures_.find(o.declaration()); it != textures_.end()) return it->second;
     const Vec2 offset{o.getFloat("uoffset", 0.0), o.getFloat("voffset", 0.0)};
     const Vec2 scale{o.getFloat("uscale", 1.0), o.getFloat("vscale", 1.0)};
@@ -111,11 +114,12 @@ std::shared_ptr<const Texture> PluginFactory::texture(const SceneObject& o) {
         if (wrap != "repeat") o.fail("wrapMode '" + wrap + "' is not supported (lt repeats textures)");
         const std::string file = resolve_(o, o.getString("filename"));
         try {
-            t = std::make_shared<BitmapTexture>(file, o.getFloat("gamma", 0.0), offset, scale);
+            t = std::make_shared<BitmapTexture>(file, o.getFloat("gamma", 0.0), offset, scale,
+                                                o.getString("channel", ""));
         } catch (const Error& e) {
             o.fail(e.what());
         }
-        finish(o, {"filterType", "maxAnisotropy", "cache", "channel"});
+        finish(o, {"filterType", "maxAnisotropy", "cache"});
     } else if (o.type == "checkerboard") {
         t = std::make_shared<CheckerboardTexture>(o.getSpectrum("color0", Spectrum(0.4)),
                                                   o.getSpectrum("color1", Spectrum(0.2)), offset, scale);
@@ -142,11 +146,15 @@ std::shared_ptr<const Bsdf> PluginFactory::defaultBsdf() {
 }
 
 std::shared_ptr<const Bsdf> PluginFactory::bsdf(const SceneObject& o) {
+    used_.insert(&o);
     if (auto it = bsdfs_.find(o.declaration()); it != bsdfs_.end()) return it->second;
     std::shared_ptr<const Bsdf> b;
     try {
         if (o.type == "diffuse") {
-            b = std::make_shared<Diffuse>(DiffuseParams{textureParam(o, "reflectance", Spectrum(0.5))});
+            // Mitsuba 0.6 also takes the reflectance as diffuseReflectance.
+            const bool alias = o.has("diffuseReflectance") || o.namedChild("diffuseReflectance");
+            b = std::make_shared<Diffuse>(
+                DiffuseParams{textureParam(o, alias ? "diffuseReflectance" : "reflectance", Spectrum(0.5))});
             finish(o);
         } else if (o.type == "twosided") {
             const auto nested = o.childrenWithTag("bsdf");
@@ -221,6 +229,23 @@ std::shared_ptr<const Bsdf> PluginFactory::bsdf(const SceneObject& o) {
             p.nonlinear = o.getBoolean("nonlinear", false);
             b = std::make_shared<RoughPlastic>(p);
             finish(o, {"sampleVisible"});
+        } else if (o.type == "blendbsdf") {
+            const auto nested = o.childrenWithTag("bsdf");
+            if (nested.size() != 2) o.fail("blendbsdf takes two nested BSDFs");
+            BlendParams p;
+            p.weight = textureParam(o, "weight", Spectrum(0.5));
+            p.first = bsdf(*nested[0]);
+            p.second = bsdf(*nested[1]);
+            b = std::make_shared<BlendBsdf>(p);
+            finish(o);
+        } else if (o.type == "mask") {
+            const auto nested = o.childrenWithTag("bsdf");
+            if (nested.size() != 1) o.fail("mask takes one nested BSDF");
+            MaskParams p;
+            p.opacity = textureParam(o, "opacity", Spectrum(0.5));
+            p.nested = bsdf(*nested[0]);
+            b = std::make_shared<MaskBsdf>(p);
+            finish(o);
         } else if (o.type == "phong") {
             PhongParams p;
             p.exponent = o.getFloat("exponent", p.exponent);
@@ -251,7 +276,7 @@ std::shared_ptr<const Bsdf> PluginFactory::bsdf(const SceneObject& o) {
             finish(o);
         } else {
             o.fail("unknown BSDF type (lt reads diffuse, twosided, dielectric, thindielectric, roughdielectric, "
-                   "conductor, roughconductor, plastic, roughplastic, phong, ward)");
+                   "conductor, roughconductor, plastic, roughplastic, phong, ward, blendbsdf, mask)");
         }
     } catch (const Error& e) {
         const std::string what = e.what();

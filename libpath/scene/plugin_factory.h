@@ -49,6 +49,9 @@ private:
     // Built objects by declaration (SceneObject::declaration()).
     std::map<const SceneObject*, std::shared_ptr<const Texture>> textures_;
     std::map<const SceneObject*, std::shared_ptr<const Bsdf>> bsdfs_;
+    // Every object (as nested or referenced, not by declaration) a plugin consumed: a nested object
+    // missing here was not read by its parent (a misnamed <ref name=...>, say), which is an error.
+    std::set<const SceneObject*> used_;
 };
 
 } // namespace lt

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <set>
 
 #include "math/constants.h"
@@ -98,12 +99,7 @@ public:
             scene_.shapes[size_t(shapeIndex)].emitter = int(scene_.emitters.size());
             scene_.emitters.push_back(std::move(emitter));
         }
-        if (!haveSensor) {
-            // Mitsuba's default sensor: perspective with a 50 mm lens (focalLengthFov), at the origin looking
-            // along +z, 768 x 576 film.
-            Film film;
-            scene_.camera = PerspectiveCamera(Transform(), fullFrameFov(50), FovAxis::Diagonal, film, 1e-2);
-        }
+        if (!haveSensor) scene_.camera = defaultCamera();
         scene_.ignoredHints = unread_.hints();
         for (const auto& w : unread_.warnings())
             scene_.warnings.push_back(w);
@@ -118,6 +114,7 @@ private:
     UnreadProperties unread_;
     PluginFactory factory_;
     std::map<const SceneObject*, int> bsdfIndices_; // by declaration (SceneObject::declaration())
+    std::map<const SceneObject*, TriangleMesh> instancedMeshes_; // untransformed, by declaration
 
     std::string resolve(const SceneObject& o, const std::string& filename) {
         fs::path p = filename;
@@ -144,11 +141,30 @@ private:
         return index;
     }
 
+    // Mitsuba 0.6's camera for a scene without a sensor (src/librender/scene.cpp, Scene::configure):
+    // fov 45 along x, looking along +z from in front of the shapes' bounding box, far enough back to see
+    // its extent in x and y, near clip a hundredth of that distance; 768 x 576 film.
+    PerspectiveCamera defaultCamera() const {
+        Bounds3 box;
+        for (const auto& shape : scene_.shapes)
+            if (!shape.portal) box.expand(shape.bounds());
+        Film film;
+        if (!box.valid()) return PerspectiveCamera(Transform(), 45.0, FovAxis::X, film, 1e-2);
+        const Vec3 extent = box.hi - box.lo, center = (box.lo + box.hi) * 0.5;
+        const double distance = std::max(extent.x, extent.y) / (2 * std::tan(degToRad(45.0 / 2)));
+        return PerspectiveCamera(Transform::translate({center.x, center.y, box.lo.z - distance}), 45.0, FovAxis::X,
+                                 film, distance > 0 ? distance / 100 : 1e-2);
+    }
+
     // Mitsuba's `shapegroup`: shapes placed only through `instance`s (it renders nothing itself).
     void checkShapeGroup(const SceneObject& o) {
+        static const std::set<std::string> ShapeTypes = {"obj",  "ply",    "serialized", "rectangle",
+                                                         "cube", "sphere", "disk"};
         for (const auto& c : o.children) {
             if (c->tag != "shape") c->fail("a shapegroup holds shapes only");
             if (c->type == "shapegroup" || c->type == "instance") c->fail("shapegroups do not nest");
+            if (!ShapeTypes.count(c->type))
+                c->fail("unknown shape type (lt reads obj, ply, serialized, rectangle, cube, sphere, disk)");
             if (!c->childrenWithTag("emitter").empty()) c->fail("a shape in a shapegroup cannot emit (as in Mitsuba)");
         }
         finish(o);
@@ -165,16 +181,17 @@ private:
             group = c.get();
         }
         if (!group) o.fail("an instance needs a <ref> to a shapegroup");
+        checkShapeGroup(*group); // again for a group written inside the instance (checks count once)
         const Transform toWorld = o.getTransform("toWorld", Transform());
         for (const auto& shape : group->children)
-            buildShape(*shape, areaEmitters, toWorld);
+            buildShape(*shape, areaEmitters, &toWorld);
         finish(o);
     }
 
-    // `placement` puts the shape's own toWorld into the scene (an instance's transform; identity otherwise).
+    // `placement`, for a shape of an instanced shapegroup, puts the shape's own toWorld into the scene.
     void buildShape(const SceneObject& o, std::vector<std::pair<const SceneObject*, int>>& areaEmitters,
-                    const Transform& placement = Transform()) {
-        const Transform toWorld = placement * o.getTransform("toWorld", Transform());
+                    const Transform* placement = nullptr) {
+        const Transform toWorld = (placement ? *placement : Transform()) * o.getTransform("toWorld", Transform());
         const bool flip = o.getBoolean("flipNormals", false);
         Shape shape;
         MeshLoadReport report;
@@ -191,13 +208,24 @@ private:
             transformMesh(mesh, toWorld);
             return Shape::triangles(std::move(mesh), flip);
         };
+        // A mesh file is read once per declaration: the instances of a shapegroup reuse it (and report its
+        // repairs once).
+        auto fileMesh = [&](const std::function<TriangleMesh()>& read) {
+            if (!placement) return read();
+            auto it = instancedMeshes_.find(o.declaration());
+            if (it == instancedMeshes_.end()) it = instancedMeshes_.emplace(o.declaration(), read()).first;
+            return it->second;
+        };
         try {
             if (o.type == "obj") {
-                shape = loadMesh(loadObj(resolve(o, o.getString("filename")), report), true);
+                shape = loadMesh(fileMesh([&] { return loadObj(resolve(o, o.getString("filename")), report); }), true);
             } else if (o.type == "ply") {
-                shape = loadMesh(loadPly(resolve(o, o.getString("filename")), report), false);
+                shape = loadMesh(fileMesh([&] { return loadPly(resolve(o, o.getString("filename")), report); }), false);
             } else if (o.type == "serialized") {
-                shape = loadMesh(loadSerialized(resolve(o, o.getString("filename")), o.getInteger("shapeIndex", 0), report),
+                shape = loadMesh(fileMesh([&] {
+                                     return loadSerialized(resolve(o, o.getString("filename")),
+                                                           o.getInteger("shapeIndex", 0), report);
+                                 }),
                                  false);
             } else if (o.type == "rectangle") {
                 shape = loadMesh(makeRectangleMesh(), false);
@@ -310,7 +338,9 @@ private:
         if (o.has("fov") && o.has("focalLength")) o.fail("give fov or focalLength, not both");
         // Without fov, Mitsuba takes the focal length's diagonal field of view (fovAxis then unread).
         const double fov = o.has("fov") ? o.getFloat("fov") : focalLengthFov(o);
-        const std::string axisName = o.has("fov") ? o.getString("fovAxis", "x") : "diagonal";
+        // Mitsuba reads fovAxis either way (so never warns about it) and uses it only with fov.
+        const std::string givenAxis = o.getString("fovAxis", "x");
+        const std::string axisName = o.has("fov") ? givenAxis : "diagonal";
         FovAxis axis;
         if (axisName == "x") axis = FovAxis::X;
         else if (axisName == "y") axis = FovAxis::Y;

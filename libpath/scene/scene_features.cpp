@@ -4,12 +4,17 @@
 #include <cmath>
 #include <set>
 
+#include "bsdf/blend.h"
+#include "bsdf/mask.h"
 #include "bsdf/twosided.h"
 
 namespace lt {
 
 std::string describeBsdf(const Bsdf& bsdf) {
     if (const auto* t = dynamic_cast<const TwoSided*>(&bsdf)) return "twosided(" + describeBsdf(t->frontBsdf()) + ")";
+    if (const auto* m = dynamic_cast<const MaskBsdf*>(&bsdf)) return "mask(" + describeBsdf(m->nested()) + ")";
+    if (const auto* b = dynamic_cast<const BlendBsdf*>(&bsdf))
+        return "blendbsdf(" + describeBsdf(b->first()) + ", " + describeBsdf(b->second()) + ")";
     return bsdf.typeName();
 }
 

@@ -28,7 +28,8 @@ struct SceneFeatures {
 
 [[nodiscard]] SceneFeatures analyzeScene(const Scene& scene);
 
-// "twosided(diffuse)" style description of a BSDF, following nested BSDFs.
+// "twosided(diffuse)" or "blendbsdf(diffuse, roughconductor)" style description of a BSDF, following
+// nested BSDFs.
 [[nodiscard]] std::string describeBsdf(const Bsdf& bsdf);
 
 } // namespace lt

@@ -111,6 +111,7 @@ std::shared_ptr<const SceneObject> SceneObject::namedChild(const std::string& n)
 }
 
 void UnreadProperties::check(const SceneObject& o, const std::set<std::string>& hints) {
+    if (!checked_.insert(o.declaration()).second) return;
     for (const auto& [key, p] : o.props) {
         if (p.queried) continue;
         const std::string plugin = "<" + o.tag + " type=\"" + o.type + "\">";
@@ -121,7 +122,7 @@ void UnreadProperties::check(const SceneObject& o, const std::set<std::string>& 
         }
         if (strict_)
             throw Error(place + ": " + plugin + " does not read the property '" + p.name +
-                        "' (an error with --strict; without it lt warns and ignores it, as Mitsuba does)");
+                        "' (an error with --strict; without it lt warns and ignores it, as Mitsuba 0.6 does)");
         const std::string k = plugin + ": property '" + p.name + "'";
         auto it = std::find_if(unknown_.begin(), unknown_.end(), [&](const Unknown& u) { return u.key == k; });
         if (it == unknown_.end())

@@ -80,7 +80,8 @@ struct SceneObject {
 class UnreadProperties {
 public:
     explicit UnreadProperties(bool strict) : strict_(strict) {}
-    // Check o after its builder has read all it reads; `hints` are its known, ignored properties.
+    // Check o after its builder has read all it reads; `hints` are its known, ignored properties. A
+    // declaration built more than once (a shape of an instanced shapegroup) is checked once.
     void check(const SceneObject& o, const std::set<std::string>& hints = {});
     // A hint that is not a property (e.g. a sampler type lt replaces by its own), listed once.
     void addHint(const std::string& hint);
@@ -94,6 +95,7 @@ private:
         size_t others = 0;
     };
     bool strict_;
+    std::set<const SceneObject*> checked_; // declarations
     std::vector<std::string> hints_;
     std::vector<Unknown> unknown_;
 };

@@ -335,7 +335,15 @@ private:
     }
     std::string nameAttr(const Source& src, const pugi::xml_node& node, bool required = false) const {
         const std::string written = attr(src, node, "name", required);
-        return src.syntax == SceneSyntax::Mitsuba3 ? mitsuba3PropertyName(written) : written;
+        if (src.syntax != SceneSyntax::Mitsuba3) return written;
+        // A 0.6 name in a 3.x file means nothing to Mitsuba 3 (it refuses the file); taking it with its 0.6
+        // meaning would hide a scene that does not render as its author saw it.
+        if (std::any_of(written.begin(), written.end(),
+                        [](char c) { return std::isupper(static_cast<unsigned char>(c)); }))
+            fail(src, node,
+                 "'" + written + "' is Mitsuba 0.6 spelling, but this file declares a 3.x version (write '" +
+                     mitsuba3Spelling(written) + "')");
+        return mitsuba3PropertyName(written);
     }
 
     void parseChild(const pugi::xml_node& node, SceneObject& owner, const Source& src) {

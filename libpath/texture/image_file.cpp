@@ -28,6 +28,8 @@ ImageFile readImageFile(const std::string& filename) {
     image.width = spec.width;
     image.height = spec.height;
     image.channels = spec.nchannels;
+    image.channelNames.assign(spec.channelnames.begin(), spec.channelnames.end());
+    image.channelNames.resize(size_t(image.channels));
     if (image.width <= 0 || image.height <= 0 || image.channels <= 0)
         throw Error(filename + ": cannot read image (empty image)");
     image.pixels.resize(size_t(image.width) * size_t(image.height) * size_t(image.channels));

@@ -9,6 +9,7 @@ namespace lt {
 
 struct ImageFile {
     int width = 0, height = 0, channels = 0;
+    std::vector<std::string> channelNames; // as the file names them ("R", "G", "B", "A", "Y", ...)
     std::vector<float> pixels; // width * height * channels, rows top to bottom, as stored
     bool floatFormat = false;  // stored as floating point (EXR, HDR, PFM): linear by convention
     bool saysLinear = false;   // the file's colour space says linear

@@ -6,6 +6,7 @@
 // the image file, i.e. its top. The familiar "origin at the bottom-left" of OBJ files comes from the OBJ
 // loader flipping v (Mitsuba's obj `flipTexCoords`, default true; our obj_loader.cpp does the same),
 // not from the texture; PLY and serialized uvs are used as stored.
+#include <cctype>
 #include <cmath>
 
 #include "math/error.h"
@@ -32,7 +33,8 @@ float srgbToLinear(float v) { return v <= 0.04045f ? v / 12.92f : std::pow((v + 
 
 } // namespace
 
-BitmapTexture::BitmapTexture(const std::string& filename, double gamma, const Vec2& offset, const Vec2& scale)
+BitmapTexture::BitmapTexture(const std::string& filename, double gamma, const Vec2& offset, const Vec2& scale,
+                             const std::string& channel)
     : offset_(offset), scale_(scale) {
     // Mitsuba's bitmap `gamma`: 0 (the default) detects the encoding from the file, -1 forces the sRGB
     // curve, a positive value g decodes as value^g (1 = linear).
@@ -49,8 +51,23 @@ BitmapTexture::BitmapTexture(const std::string& filename, double gamma, const Ve
 
     // Automatic detection, as Mitsuba's Bitmap does: integer formats (PNG, JPEG, 8- and 16-bit TIFF ...)
     // hold sRGB-encoded values unless the file says it is linear; float formats (EXR, HDR, PFM) are linear.
-    const bool useSrgb = gamma == -1 || (gamma == 0 && !image.floatFormat && !image.saysLinear);
-    const bool usePower = gamma > 0 && gamma != 1;
+    const auto lower = [](std::string name) {
+        for (char& c : name)
+            c = char(std::tolower(static_cast<unsigned char>(c)));
+        return name;
+    };
+    int only = -1; // the one channel read, or -1 for colour (or luminance)
+    if (!channel.empty()) {
+        std::string names;
+        for (int c = 0; c < image.channels; ++c) {
+            if (lower(image.channelNames[size_t(c)]) == lower(channel)) only = c;
+            names += (c ? ", " : "") + lower(image.channelNames[size_t(c)]);
+        }
+        if (only < 0) throw Error(filename + ": no channel '" + channel + "' (it has " + names + ")");
+    }
+    const bool alpha = only >= 0 && lower(channel) == "a";
+    const bool useSrgb = !alpha && (gamma == -1 || (gamma == 0 && !image.floatFormat && !image.saysLinear));
+    const bool usePower = !alpha && gamma > 0 && gamma != 1;
     auto decode = [&](float v) {
         if (useSrgb) return srgbToLinear(v);
         if (usePower) return std::copysign(std::pow(std::abs(v), float(gamma)), v);
@@ -69,9 +86,11 @@ BitmapTexture::BitmapTexture(const std::string& filename, double gamma, const Ve
                 if (!std::isfinite(p[c]))
                     throw Error(filename + ": pixel (" + std::to_string(x) + ", " + std::to_string(y) +
                                 ") is not finite");
+            if (only >= 0 && !std::isfinite(p[only]))
+                throw Error(filename + ": pixel (" + std::to_string(x) + ", " + std::to_string(y) + ") is not finite");
             float* out = &rgb_[(size_t(y) * size_t(width_) + size_t(x)) * 3];
             for (int c = 0; c < 3; ++c)
-                out[c] = decode(p[colorChannels == 3 ? c : 0]);
+                out[c] = decode(p[only >= 0 ? only : colorChannels == 3 ? c : 0]);
             sum += texel(x, y);
             maximum_ = max(maximum_, texel(x, y));
         }

@@ -53,10 +53,13 @@ private:
 // Mitsuba's `bitmap`: an image read through OpenImageIO, bilinear lookup with repeat wrapping. uv
 // (0, 0) is the top-left texel as in Mitsuba's MIP map; OBJ's bottom-left origin comes from the OBJ
 // loader flipping v (flipTexCoords). LDR 8-bit images are linearized from sRGB unless gamma says otherwise.
+// `channel` (Mitsuba's parameter: a channel name such as "r" or "a", any case) makes a grey texture of that
+// one channel; alpha is read linearly, as Mitsuba does.
 class BitmapTexture final : public Texture {
 public:
-    // Throws lt::Error naming the file when it cannot be read or holds NaN or Inf.
-    BitmapTexture(const std::string& filename, double gamma, const Vec2& offset, const Vec2& scale);
+    // Throws lt::Error naming the file when it cannot be read, holds NaN or Inf, or has no such channel.
+    BitmapTexture(const std::string& filename, double gamma, const Vec2& offset, const Vec2& scale,
+                  const std::string& channel = "");
     [[nodiscard]] Spectrum eval(const Vec2& uv) const override;
     [[nodiscard]] Spectrum average() const override { return average_; }
     [[nodiscard]] Spectrum maximum() const override { return maximum_; }

@@ -1,0 +1,44 @@
+// Mitsuba's `mask`: a cut-out (leaves, fences) as an opacity alpha(uv) in [0, 1] over a nested BSDF,
+//   f = alpha f_nested,  plus a delta lobe straight through (wo = -wi, eta 1) carrying 1 - alpha
+// (Mitsuba 0.6 mask.cpp; alpha per channel, the lobe chosen by its luminance). The straight-through lobe
+// is a vertex of the path like a thin dielectric's transmission: every method sees it, shadow rays stop
+// at it, and it counts toward the path depth.
+#pragma once
+
+#include <memory>
+
+#include "bsdf/bsdf.h"
+#include "texture/texture.h"
+
+namespace lt {
+
+struct MaskParams {
+    std::shared_ptr<const Texture> opacity = std::make_shared<ConstantTexture>(Spectrum(0.5)); // Mitsuba default
+    std::shared_ptr<const Bsdf> nested;
+};
+
+class MaskBsdf final : public Bsdf {
+public:
+    explicit MaskBsdf(MaskParams params);
+
+    [[nodiscard]] Spectrum eval(const Vec3& wi, const Vec3& wo, const Vec2& uv, Transport mode) const override;
+    [[nodiscard]] double pdf(const Vec3& wi, const Vec3& wo, const Vec2& uv) const override;
+    [[nodiscard]] std::optional<BsdfSample> sample(const Vec3& wi, const Vec2& uv, Transport mode, double uLobe,
+                                                   const Vec2& u) const override;
+    [[nodiscard]] std::optional<BsdfSample> deltaEval(const Vec3& wi, const Vec3& wo, const Vec2& uv,
+                                                      Transport mode) const override;
+    [[nodiscard]] Lobes lobes() const override { return p_.nested->lobes() | LobeDelta | LobeTransmission; }
+    // 0: the straight-through lobe is delta (the sharpest lobe decides, as for plastic).
+    [[nodiscard]] double roughness(const Vec2&) const override { return 0; }
+    [[nodiscard]] std::optional<InterfaceEta> eta() const override { return p_.nested->eta(); }
+    [[nodiscard]] std::string typeName() const override { return "mask"; }
+    [[nodiscard]] const Bsdf& nested() const { return *p_.nested; }
+
+private:
+    // alpha at uv, each channel clamped to [0, 1], and the probability of the nested BSDF (its luminance).
+    [[nodiscard]] Spectrum opacity(const Vec2& uv) const;
+    [[nodiscard]] static double nestedProbability(const Spectrum& alpha);
+    MaskParams p_;
+};
+
+} // namespace lt

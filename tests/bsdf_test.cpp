@@ -437,6 +437,18 @@ TEST_CASE("delta lobes: deltaEval agrees with sample, eval/pdf are zero", "[bsdf
     for (const auto& [name, params] : masks())
         deltas.push_back({name, std::make_shared<MaskBsdf>(params)});
     {
+        // A mask keeps its nested BSDF's roughness (its see-through lobe is delta and marks its own vertices)
+        // and is an index-matched interface; a nested BSDF that refracts is refused.
+        const MaskBsdf m(masks()[1].second);
+        CHECK(m.roughness(UV) == Approx(masks()[1].second.nested->roughness(UV)));
+        REQUIRE(m.eta());
+        CHECK(m.eta()->interior == m.eta()->exterior);
+        CHECK_THROWS_AS(MaskBsdf(MaskParams{tex(0.5), std::make_shared<Dielectric>(DielectricParams{})}), Error);
+        // A blend of a delta part and a glossy one takes the glossy part's roughness.
+        const BlendBsdf b(blends()[1].params);
+        CHECK(b.roughness(UV) == Approx(blends()[1].params.second->roughness(UV)));
+    }
+    {
         // The straight-through lobe carries 1 - alpha with probability 1 - lum(alpha).
         MaskParams coloured = masks()[1].second;
         coloured.opacity = std::make_shared<ConstantTexture>(Spectrum(0.9, 0.5, 0.1));

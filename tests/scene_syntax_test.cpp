@@ -295,9 +295,11 @@ TEST_CASE("a named ref its parent does not read is an error; a shape instanced t
     test::TempDir dir;
     const std::string f = dir.write("refs.xml", R"(<scene version="0.6.0">
 <texture type="checkerboard" id="wood"/>
+<bsdf type="diffuse" id="a"><ref name="reflectance" id="wood"/></bsdf>
 <bsdf type="roughconductor" id="b"><ref name="diffuseReflectance" id="wood"/></bsdf>
 </scene>
 )");
+    // Consumed by the first BSDF, not by the second: still an error for the second.
     CHECK_THAT(loadError(f), Contains("not used by its <bsdf type=\"roughconductor\"> (check its name)"));
     // Mitsuba 0.6's diffuse takes diffuseReflectance as well as reflectance.
     const auto d = loadScene(dir.write("diffuse.xml", R"(<scene version="0.6.0">

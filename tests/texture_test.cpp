@@ -145,6 +145,11 @@ TEST_CASE("bitmap: one channel as a grey texture, alpha read linearly (Mitsuba's
     checkSpectrum(BitmapTexture(png, 0, kNoOffset, kUnitScale, "A").eval({0.5, 0.5}), Spectrum(10 / 255.0), eps);
     CHECK(test::errorOf([&] { BitmapTexture(png, 0, kNoOffset, kUnitScale, "z"); }) ==
           png + ": no channel 'z' (it has r, g, b, a)");
+    // A one-channel image's channel is "l" to Mitsuba ("y" to OpenImageIO).
+    const std::vector<unsigned char> grey = {200};
+    const std::string greyPng = writeImage(dir.path / "grey.png", 1, 1, 1, OIIO::TypeDesc::UINT8, grey);
+    checkSpectrum(BitmapTexture(greyPng, 0, kNoOffset, kUnitScale, "l").eval({0.5, 0.5}),
+                  Spectrum(srgbToLinear(200 / 255.0)), eps);
 }
 
 TEST_CASE("bitmap: unreadable files and non-finite pixels are errors naming the file", "[texture]") {

@@ -42,7 +42,7 @@ std::optional<BsdfSample> BlendBsdf::sample(const Vec3& wi, const Vec2& uv, Tran
     s->pdf = pdf(wi, s->wo, uv);
     if (!(s->pdf > 0) || !std::isfinite(s->pdf)) return std::nullopt;
     s->weight = eval(wi, s->wo, uv, mode) * (std::abs(s->wo.z) / s->pdf);
-    if (!s->weight.isFinite()) return std::nullopt;
+    if (!s->weight.isFinite() || s->weight.isBlack()) return std::nullopt;
     return s;
 }
 
@@ -57,7 +57,11 @@ std::optional<BsdfSample> BlendBsdf::deltaEval(const Vec3& wi, const Vec3& wo, c
 }
 
 double BlendBsdf::roughness(const Vec2& uv) const {
-    return std::min(p_.first->roughness(uv), p_.second->roughness(uv));
+    const auto scatters = [](const Bsdf& b) { return b.hasGlossy() || b.hasDiffuse(); };
+    if (scatters(*p_.first) && scatters(*p_.second)) return std::min(p_.first->roughness(uv), p_.second->roughness(uv));
+    if (scatters(*p_.first)) return p_.first->roughness(uv);
+    if (scatters(*p_.second)) return p_.second->roughness(uv);
+    return 0;
 }
 
 std::optional<InterfaceEta> BlendBsdf::eta() const { return p_.first->eta() ? p_.first->eta() : p_.second->eta(); }

@@ -29,7 +29,8 @@ public:
     [[nodiscard]] std::optional<BsdfSample> deltaEval(const Vec3& wi, const Vec3& wo, const Vec2& uv,
                                                       Transport mode) const override;
     [[nodiscard]] Lobes lobes() const override { return p_.first->lobes() | p_.second->lobes(); }
-    // The sharper of the two.
+    // The sharper of the two parts' non-delta lobes (a purely delta part marks its own vertices as delta;
+    // 0 when both parts are purely delta).
     [[nodiscard]] double roughness(const Vec2& uv) const override;
     [[nodiscard]] std::optional<InterfaceEta> eta() const override;
     [[nodiscard]] std::string typeName() const override { return "blendbsdf"; }

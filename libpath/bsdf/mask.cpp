@@ -10,7 +10,12 @@ namespace lt {
 
 MaskBsdf::MaskBsdf(MaskParams params) : p_(std::move(params)) {
     if (!p_.opacity || !p_.nested) throw Error("mask: needs an opacity and a nested BSDF");
+    if (const auto e = p_.nested->eta(); e && e->interior != e->exterior)
+        throw Error("mask: the nested BSDF '" + p_.nested->typeName() +
+                    "' refracts; a cut-out's see-through part does not bend light (use a thin dielectric)");
 }
+
+std::optional<InterfaceEta> MaskBsdf::eta() const { return p_.nested->eta().value_or(InterfaceEta{1, 1}); }
 
 Spectrum MaskBsdf::opacity(const Vec2& uv) const {
     const Spectrum a = p_.opacity->eval(uv);

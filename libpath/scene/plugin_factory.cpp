@@ -93,18 +93,22 @@ void PluginFactory::noteEnergyScale(const SceneObject& o, const GlossyDiffuseBsd
                            " to conserve energy, as Mitsuba does (ensureEnergyConservation = false keeps them)");
 }
 
+std::shared_ptr<const Bsdf> PluginFactory::nestedBsdf(const SceneObject& parent, const SceneObject& child) {
+    consumed_.insert({&parent, &child});
+    return bsdf(child);
+}
+
 void PluginFactory::finish(const SceneObject& o, const std::set<std::string>& hints) {
     unread_.check(o, hints);
     for (const auto& c : o.children) {
         // Every nested object must have been consumed as a named texture or nested BSDF.
         if ((c->tag == "texture" && !c->name.empty()) || c->tag == "bsdf")
-            if (used_.count(c.get())) continue;
+            if (consumed_.count({&o, c.get()})) continue;
         c->fail("not used by its <" + o.tag + " type=\"" + o.type + "\"> (check its name)");
     }
 }
 
 std::shared_ptr<const Texture> PluginFactory::texture(const SceneObject& o) {
-    used_.insert(&o);
     if (auto it = textures_.find(o.declaration()); it != textures_.end()) return it->second;
     const Vec2 offset{o.getFloat("uoffset", 0.0), o.getFloat("voffset", 0.0)};
     const Vec2 scale{o.getFloat("uscale", 1.0), o.getFloat("vscale", 1.0)};
@@ -136,6 +140,7 @@ std::shared_ptr<const Texture> PluginFactory::textureParam(const SceneObject& o,
     if (auto child = o.namedChild(key)) {
         if (child->tag != "texture") child->fail("'" + key + "' must be a texture");
         if (o.has(key)) o.fail("'" + key + "' is given both as a value and as a texture");
+        consumed_.insert({&o, child.get()});
         return texture(*child);
     }
     return std::make_shared<ConstantTexture>(o.getSpectrum(key, def));
@@ -146,7 +151,6 @@ std::shared_ptr<const Bsdf> PluginFactory::defaultBsdf() {
 }
 
 std::shared_ptr<const Bsdf> PluginFactory::bsdf(const SceneObject& o) {
-    used_.insert(&o);
     if (auto it = bsdfs_.find(o.declaration()); it != bsdfs_.end()) return it->second;
     std::shared_ptr<const Bsdf> b;
     try {
@@ -160,8 +164,8 @@ std::shared_ptr<const Bsdf> PluginFactory::bsdf(const SceneObject& o) {
             const auto nested = o.childrenWithTag("bsdf");
             if (nested.empty() || nested.size() > 2) o.fail("twosided takes one or two nested BSDFs");
             TwoSidedParams p;
-            p.front = bsdf(*nested[0]);
-            if (nested.size() == 2) p.back = bsdf(*nested[1]);
+            p.front = nestedBsdf(o, *nested[0]);
+            if (nested.size() == 2) p.back = nestedBsdf(o, *nested[1]);
             b = std::make_shared<TwoSided>(p);
             finish(o);
         } else if (o.type == "dielectric") {
@@ -234,8 +238,8 @@ std::shared_ptr<const Bsdf> PluginFactory::bsdf(const SceneObject& o) {
             if (nested.size() != 2) o.fail("blendbsdf takes two nested BSDFs");
             BlendParams p;
             p.weight = textureParam(o, "weight", Spectrum(0.5));
-            p.first = bsdf(*nested[0]);
-            p.second = bsdf(*nested[1]);
+            p.first = nestedBsdf(o, *nested[0]);
+            p.second = nestedBsdf(o, *nested[1]);
             b = std::make_shared<BlendBsdf>(p);
             finish(o);
         } else if (o.type == "mask") {
@@ -243,7 +247,7 @@ std::shared_ptr<const Bsdf> PluginFactory::bsdf(const SceneObject& o) {
             if (nested.size() != 1) o.fail("mask takes one nested BSDF");
             MaskParams p;
             p.opacity = textureParam(o, "opacity", Spectrum(0.5));
-            p.nested = bsdf(*nested[0]);
+            p.nested = nestedBsdf(o, *nested[0]);
             b = std::make_shared<MaskBsdf>(p);
             finish(o);
         } else if (o.type == "phong") {

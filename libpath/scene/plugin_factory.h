@@ -5,7 +5,9 @@
 
 #include <functional>
 #include <memory>
+#include <set>
 #include <string>
+#include <utility>
 
 #include "bsdf/bsdf.h"
 #include "bsdf/glossy_diffuse.h"
@@ -38,6 +40,8 @@ public:
 private:
     // An index of refraction given as a number or a name ("bk7", "air", ...).
     [[nodiscard]] double ior(const SceneObject& o, const std::string& key, double def);
+    // A BSDF nested in (or referenced by) `parent`, recorded as consumed by it.
+    [[nodiscard]] std::shared_ptr<const Bsdf> nestedBsdf(const SceneObject& parent, const SceneObject& child);
     // The reflectances of phong and ward, with their energy-conservation switch.
     [[nodiscard]] GlossyDiffuseParams glossyDiffuse(const SceneObject& o);
     // A warning when Mitsuba's energy conservation scaled a glossy BSDF's reflectances.
@@ -49,9 +53,9 @@ private:
     // Built objects by declaration (SceneObject::declaration()).
     std::map<const SceneObject*, std::shared_ptr<const Texture>> textures_;
     std::map<const SceneObject*, std::shared_ptr<const Bsdf>> bsdfs_;
-    // Every object (as nested or referenced, not by declaration) a plugin consumed: a nested object
-    // missing here was not read by its parent (a misnamed <ref name=...>, say), which is an error.
-    std::set<const SceneObject*> used_;
+    // (parent, nested or referenced child) for every child a plugin consumed: a child missing here was not
+    // read by that parent (a misnamed <ref name=...>, say), which is an error, whoever else reads it.
+    std::set<std::pair<const SceneObject*, const SceneObject*>> consumed_;
 };
 
 } // namespace lt

@@ -333,9 +333,11 @@ private:
     static std::string propertyTag(const Source& src, const pugi::xml_node& node) {
         return src.syntax == SceneSyntax::Mitsuba3 ? mitsuba3PropertyTag(node.name()) : node.name();
     }
-    std::string nameAttr(const Source& src, const pugi::xml_node& node, bool required = false) const {
+    // (An object's name at scene level is free-form in 3.x files; `atSceneLevel` leaves it as written.)
+    std::string nameAttr(const Source& src, const pugi::xml_node& node, bool required = false,
+                         bool atSceneLevel = false) const {
         const std::string written = attr(src, node, "name", required);
-        if (src.syntax != SceneSyntax::Mitsuba3) return written;
+        if (src.syntax != SceneSyntax::Mitsuba3 || atSceneLevel) return written;
         // A 0.6 name in a 3.x file means nothing to Mitsuba 3 (it refuses the file); taking it with its 0.6
         // meaning would hide a scene that does not render as its author saw it.
         if (std::any_of(written.begin(), written.end(),
@@ -358,7 +360,7 @@ private:
             obj->tag = tag;
             obj->type = attr(src, node, "type");
             obj->id = attr(src, node, "id");
-            obj->name = nameAttr(src, node);
+            obj->name = nameAttr(src, node, false, owner.tag == "scene");
             obj->file = src.file;
             obj->line = src.lineOf(node.offset_debug());
             obj->syntax = src.syntax;

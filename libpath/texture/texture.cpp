@@ -60,7 +60,9 @@ BitmapTexture::BitmapTexture(const std::string& filename, double gamma, const Ve
     if (!channel.empty()) {
         std::string names;
         for (int c = 0; c < image.channels; ++c) {
-            if (lower(image.channelNames[size_t(c)]) == lower(channel)) only = c;
+            // Mitsuba names a one-channel image's channel "l" (luminance); OpenImageIO calls it "y".
+            const bool luminance = lower(channel) == "l" && lower(image.channelNames[size_t(c)]) == "y";
+            if (lower(image.channelNames[size_t(c)]) == lower(channel) || luminance) only = c;
             names += (c ? ", " : "") + lower(image.channelNames[size_t(c)]);
         }
         if (only < 0) throw Error(filename + ": no channel '" + channel + "' (it has " + names + ")");

@@ -1,7 +1,7 @@
 #include "scene/missing_file.h"
 
-#include <algorithm>
-#include <cctype>
+#include <OpenImageIO/strutil.h>
+
 #include <optional>
 #include <system_error>
 
@@ -10,12 +10,6 @@ namespace lt {
 namespace {
 
 namespace fs = std::filesystem;
-
-bool equalIgnoringCase(const std::string& a, const std::string& b) {
-    return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(), [](char x, char y) {
-               return std::tolower(static_cast<unsigned char>(x)) == std::tolower(static_cast<unsigned char>(y));
-           });
-}
 
 // The existing path that equals `path` but for letter case, component by component.
 std::optional<fs::path> caseInsensitiveMatch(const fs::path& path) {
@@ -29,7 +23,7 @@ std::optional<fs::path> caseInsensitiveMatch(const fs::path& path) {
         }
         std::optional<fs::path> next;
         for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec))
-            if (equalIgnoringCase(it->path().filename().string(), part.string())) {
+            if (OIIO::Strutil::iequals(it->path().filename().string(), part.string())) {
                 next = found / it->path().filename();
                 break;
             }

@@ -6,8 +6,9 @@
 // the image file, i.e. its top. The familiar "origin at the bottom-left" of OBJ files comes from the OBJ
 // loader flipping v (Mitsuba's obj `flipTexCoords`, default true; our obj_loader.cpp does the same),
 // not from the texture; PLY and serialized uvs are used as stored.
-#include <cctype>
 #include <cmath>
+
+#include <OpenImageIO/strutil.h>
 
 #include "math/error.h"
 #include "texture/image_file.h"
@@ -51,23 +52,20 @@ BitmapTexture::BitmapTexture(const std::string& filename, double gamma, const Ve
 
     // Automatic detection, as Mitsuba's Bitmap does: integer formats (PNG, JPEG, 8- and 16-bit TIFF ...)
     // hold sRGB-encoded values unless the file says it is linear; float formats (EXR, HDR, PFM) are linear.
-    const auto lower = [](std::string name) {
-        for (char& c : name)
-            c = char(std::tolower(static_cast<unsigned char>(c)));
-        return name;
-    };
+    using OIIO::Strutil::iequals;
     int only = -1; // the one channel read, or -1 for colour (or luminance)
     if (!channel.empty()) {
         std::string names;
         for (int c = 0; c < image.channels; ++c) {
             // Mitsuba names a one-channel image's channel "l" (luminance); OpenImageIO calls it "y".
-            const bool luminance = lower(channel) == "l" && lower(image.channelNames[size_t(c)]) == "y";
-            if (lower(image.channelNames[size_t(c)]) == lower(channel) || luminance) only = c;
-            names += (c ? ", " : "") + lower(image.channelNames[size_t(c)]);
+            const std::string& name = image.channelNames[size_t(c)];
+            const bool luminance = iequals(channel, "l") && iequals(name, "y");
+            if (iequals(name, channel) || luminance) only = c;
+            names += (c ? ", " : "") + OIIO::Strutil::lower(name);
         }
         if (only < 0) throw Error(filename + ": no channel '" + channel + "' (it has " + names + ")");
     }
-    const bool alpha = only >= 0 && lower(channel) == "a";
+    const bool alpha = only >= 0 && iequals(channel, "a");
     const bool useSrgb = !alpha && (gamma == -1 || (gamma == 0 && !image.floatFormat && !image.saysLinear));
     const bool usePower = !alpha && gamma > 0 && gamma != 1;
     auto decode = [&](float v) {

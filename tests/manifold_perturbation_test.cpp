@@ -115,7 +115,8 @@ std::vector<MarkovPath> seedStates(const Scene& scene, int depth, size_t samples
 
 TEST_CASE("manifold perturbation: the density sampled is the T(x -> y) computed, and walks come back",
           "[manifold][mcmc]") {
-    // From seed paths through the glass and mirror spheres and the veach-bidir egg, propose: the density
+    // From seed paths through the glass and mirror spheres, the veach-bidir egg and the spheres under a sky
+    // and a sun (chains walked with the direction of a light at infinity held), propose: the density
     // multiplied while tracing (the turned direction, the specular vertices after it) times the walked
     // chain's factor must be the T recomputed from the two states, both Q finite, and T(y -> x) the
     // one rebuilt through the public pieces (the same stages, y's kernel). A turned chain through held
@@ -124,7 +125,7 @@ TEST_CASE("manifold perturbation: the density sampled is the T(x -> y) computed,
     // density. Of the walks that converge, fewer than 1 % may fail to come back (ME Sec. 5.1 reports
     // 0 - 0.4 %).
     int walked = 0, notReversible = 0, glossyWalks = 0, glossyNotReversible = 0;
-    for (const char* name : {"cornell-spheres", "veach-bidir"}) {
+    for (const char* name : {"cornell-spheres", "veach-bidir", "sun-caustic"}) {
         INFO(name);
         auto scene = loadScene(test::shippedScene(name));
         scene->camera = scene->camera.withResolution(32, 32);
@@ -132,7 +133,7 @@ TEST_CASE("manifold perturbation: the density sampled is the T(x -> y) computed,
         const ManifoldPerturbation mutation(*scene);
         Pcg32 rng(3, 9);
         int suitable = 0, checked = 0, off = 0, walkFailed = 0, balanceOff = 0, eyeSideChains = 0, eyeSideOff = 0,
-            unstaged = 0;
+            unstaged = 0, heldAtInfinity = 0;
         double worst = 0;
         for (const auto& x : paths) {
             if (!mutation.suitable(x)) continue;
@@ -161,6 +162,7 @@ TEST_CASE("manifold perturbation: the density sampled is the T(x -> y) computed,
                 }
                 ++checked;
                 walked += walks;
+                heldAtInfinity += walks && stages->c == 0 && x.v[0].infinite;
                 const double mismatch = test::proposalDensityMismatch(mutation, p);
                 worst = std::max(worst, mismatch);
                 off += mismatch > 1e-3;
@@ -187,6 +189,8 @@ TEST_CASE("manifold perturbation: the density sampled is the T(x -> y) computed,
         CHECK(checked > 1000);
         CHECK(off < checked / 100 + 1);
         CHECK(balanceOff == 0);
+        INFO(heldAtInfinity << " walks with the light's direction held");
+        if (std::string(name) == "sun-caustic") CHECK(heldAtInfinity > 500);
         INFO(eyeSideChains << " chains walked with a surface at their eye end, " << eyeSideOff
                            << " of them with another factor held at the light end");
         CHECK(eyeSideOff <= eyeSideChains / 100);

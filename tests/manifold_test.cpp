@@ -274,6 +274,11 @@ TEST_CASE("constraint blocks match central differences on spheres and meshes wit
                         CHECK(std::abs(c0->x) + std::abs(c0->y) < 1e-9);
                     }
                     checkBlocksByDifferences(*cs.shape, 0, cs.q, nb.prev, center, nb.next);
+                    // The previous vertex at infinity in the same direction (a sky or sun): w_i no longer turns
+                    // when x_i moves, and moving the vertex at infinity changes nothing (A = 0).
+                    checkBlocksByDifferences(*cs.shape, 0, cs.q,
+                                             infiniteVertex(nb.prev.p, normalize(nb.prev.p - center.p)), center,
+                                             nb.next);
                 }
             }
         }
@@ -344,6 +349,33 @@ TEST_CASE("generalized G through a flat glass slab matches the analytic refracti
         REQUIRE(G);
         CHECK(*G == Approx(expected).epsilon(1e-10));
         CHECK(*generalizedGeometryTerm(reversed(chain)) == Approx(expected).epsilon(1e-10));
+    }
+}
+
+TEST_CASE("generalized G of parallel light from infinity through a flat glass slab is the receiver's cosine",
+          "[manifold]") {
+    // The light at infinity: the slab test's x1 replaced by its direction. Parallel rays leave the slab
+    // parallel, shifted: the perpendicular area of the beam per unit area of the receiver is |n4.w4|, the
+    // ordinary G between a vertex at infinity and x4 (path/vertex.h), whatever the slab.
+    const double a = 0.7, d = 0.4, b = 0.9;
+    for (double deg : {10.0, 35.0, 60.0, 80.0}) {
+        CAPTURE(deg);
+        const double t = deg * Pi / 180, tt = std::asin(std::sin(t) / 1.5);
+        const Vec3 n4 = normalize(Vec3(-0.1, 0.3, 1));
+        const Frame f4 = Frame::fromNormal(n4);
+        const Vec3 p2{a * std::tan(t), 0, 0}, p3 = p2 + Vec3(d * std::tan(tt), 0, -d),
+                                              p4 = p3 + Vec3(b * std::tan(t), 0, -b);
+        const Vec3 toSky = normalize(Vec3(0, 0, a) - p2);
+        const ManifoldVertex sky = infiniteVertex(p2 + toSky * 1e3, toSky), x4 = chartPoint(p4, f4.s, f4.t, n4);
+        ManifoldVertex x2 = chartPoint(p2, {1, 0, 0}, {0, 1, 0}, {0, 0, 1});
+        ManifoldVertex x3 = chartPoint(p3, {1, 0, 0}, {0, -1, 0}, {0, 0, -1});
+        REQUIRE(setScattering(x2, sky, x3, kGlass, true));
+        REQUIRE(setScattering(x3, x2, x4, kGlass, true));
+        const ManifoldChain chain{sky, x2, x3, x4};
+        const auto G = generalizedGeometryTerm(chain);
+        REQUIRE(G);
+        CHECK(*G == Approx(std::abs(dot(n4, normalize(p4 - p3)))).epsilon(1e-10));
+        CHECK(*generalizedGeometryTerm(reversed(chain)) == Approx(*G).epsilon(1e-10));
     }
 }
 
@@ -433,6 +465,30 @@ TEST_CASE("manifold walks converge on a curved mirror and through a glass sphere
             CAPTURE(walkFailureName(w.failure), w.iterations, chain.back().p.x, chain.back().p.y);
             REQUIRE(w.converged());
             checkOnManifold(w.chain);
+            CHECK(reverseWalk(lens, chain, w.chain, WalkEnd::Last).converged());
+        }
+    }
+    SECTION("glass sphere under the sun: its direction held, the floor point moved") {
+        // The floor and the sphere of sphereOverFloor without its ceiling light, which would block the sun.
+        const Scene lens =
+            sceneOf({quad({-6, -6, 0}, {6, -6, 0}, {6, 6, 0}, {-6, 6, 0}), Shape::sphere({0, 0, 2}, 1, false)});
+        const Vec3 toSun = normalize(Vec3(0.3, -0.2, 1));
+        const Vec3 through{0.25, 0.1, 2};
+        const ManifoldVertex sun = infiniteVertex(through + toSun * 100, toSun);
+        const ManifoldChain chain = traceSpecular(lens, sun, -toSun, {kGlass, kGlass});
+        REQUIRE(chain.back().shape == 0);
+        for (double step : {0.01, 0.05, 0.1}) {
+            CAPTURE(step);
+            const ManifoldVertex target = hitAlong(lens, chain.back().p + Vec3(-step, step, 1), {0, 0, -1});
+            const WalkResult w = walkManifold(lens, chain, target);
+            stats.add(w, chain.size());
+            CAPTURE(walkFailureName(w.failure), w.iterations);
+            REQUIRE(w.converged());
+            CHECK(w.iterations <= 6);
+            checkOnManifold(w.chain);
+            // The light still arrives along the sun's direction, and the ray to it is free.
+            CHECK(w.chain.front().atInfinity);
+            CHECK(length(w.chain.front().n - toSun) == 0);
             CHECK(reverseWalk(lens, chain, w.chain, WalkEnd::Last).converged());
         }
     }

@@ -546,97 +546,111 @@ TEST_CASE("lens, caustic, multi-chain perturbations, lens subpath: the density s
     // rebuilt from the two paths (raster offset |u - u'|, angle between the old and new directions, the
     // caustic ranges taken at y) give T(y -> x) = reverseQ f*(x). The lens-subpath mutation samples its
     // lobes and where it stops: its density includes those choices.
-    auto scene = loadScene(test::shippedScene("cornell-spheres"));
-    scene->camera = scene->camera.withResolution(32, 32);
-    PathSettings b;
-    b.maxDepth = 8;
-    const auto seeds = seedWithBdpt(*scene, b, 40000, 6000, 1, 2, nullptr);
-    std::vector<MarkovPath> paths;
-    for (size_t i = 0; i < seeds.paths.size(); ++i)
-        if (auto x = stateOf(*scene, seeds.paths[i], i)) paths.push_back(std::move(*x));
-    const SensorWindow sensor(scene->camera);
-    for (const std::string name : {"lens", "caustic", "multi-chain", "lens-subpath"}) {
-        const auto mutation = makePerturbation(name, *scene, b.maxDepth);
-        Pcg32 rng(7, 7);
-        int suitable = 0, checked = 0, failed = 0, off = 0, balanceOff = 0, specular = 0;
-        double worst = 0, acceptance = 0;
-        for (const auto& x : paths) {
-            if (!mutation->suitable(x)) continue;
-            ++suitable;
-            for (int j = 0; j < 20; ++j) {
-                Proposal p;
-                mutation->propose(x, rng, p);
-                if (p.failed) {
-                    ++failed;
-                    continue;
-                }
-                ++checked;
-                for (const auto& v : p.y.v)
-                    specular += isSpecular(v);
-                const double mismatch = proposalDensityMismatch(*mutation, p);
-                worst = std::max(worst, mismatch);
-                off += mismatch > 1e-3;
-                acceptance += std::min(1.0, p.reverseQ / p.forwardQ);
-                // The reverse move rebuilt from the paths alone.
-                double reverseT = 0, rebuiltTheta = 0;
-                if (name == "caustic") {
-                    const auto& caustic = static_cast<const CausticPerturbation&>(*mutation);
-                    const int l = CausticPerturbation::chainStart(x);
-                    const Vec3 a = x.v[size_t(l)].directionTo(x.v[size_t(l) + 1]);
-                    const Vec3 c = p.y.v[size_t(l)].directionTo(p.y.v[size_t(l) + 1]);
-                    const double theta = std::atan2(length(cross(a, c)), dot(a, c));
-                    reverseT = caustic.chainDensity(x, caustic.angles(p.y).sphereDensity(theta));
-                    rebuiltTheta = theta / caustic.angles(p.y).lo;
-                    // Near a range's end the rebuilt angle may fall on the other side of it.
-                    if (reverseT == 0 && p.reverseQ == 0) continue;
-                } else {
-                    const double r = length(p.y.raster - x.raster);
-                    const double pOffset = rasterRadii(scene->camera).planeDensity(r);
-                    if (name == "lens-subpath") {
-                        reverseT = static_cast<const LensSubpathMutation&>(*mutation).subpathDensity(
-                            x.v, firstNonSpecularFromEye(x.v));
-                    } else if (name == "lens") {
-                        reverseT = pOffset * eyeChainDensity(*scene, sensor, x.v, firstNonSpecularFromEye(x.v));
-                    } else {
-                        // Each turned direction: the angle between the old and the new one at the stop. Turns of
-                        // 1e-6 rad are not recoverable from float hit points, but the kernel is the same both
-                        // ways: compare T(y -> x) / T(x -> y) rebuilt, with the rebuilt angles in both.
-                        const auto stops = MultiChainPerturbation::stops(x);
-                        std::vector<double> thetas;
-                        for (size_t s = 0; s + 1 < stops.size(); ++s) {
-                            const size_t d = size_t(stops[s]);
-                            const Vec3 a = x.v[d].directionTo(x.v[d - 1]);
-                            const Vec3 c = p.y.v[d].directionTo(p.y.v[d - 1]);
-                            thetas.push_back(std::atan2(length(cross(a, c)), dot(a, c)));
+    // sun-caustic: every light vertex at infinity (a sky direction, or the sun's, whose ray the caustic
+    // perturbation moves sideways).
+    const std::pair<const char*, std::vector<std::string>> cases[] = {
+        {"cornell-spheres", {"lens", "caustic", "multi-chain", "lens-subpath"}}, {"sun-caustic", {"lens", "caustic"}}};
+    for (const auto& [sceneName, names] : cases) {
+        INFO(sceneName);
+        auto scene = loadScene(test::shippedScene(sceneName));
+        scene->camera = scene->camera.withResolution(32, 32);
+        PathSettings b;
+        b.maxDepth = 8;
+        const auto seeds = seedWithBdpt(*scene, b, 40000, 6000, 1, 2, nullptr);
+        std::vector<MarkovPath> paths;
+        for (size_t i = 0; i < seeds.paths.size(); ++i)
+            if (auto x = stateOf(*scene, seeds.paths[i], i)) paths.push_back(std::move(*x));
+        const SensorWindow sensor(scene->camera);
+        for (const std::string& name : names) {
+            const auto mutation = makePerturbation(name, *scene, b.maxDepth);
+            Pcg32 rng(7, 7);
+            int suitable = 0, checked = 0, failed = 0, off = 0, balanceOff = 0, specular = 0, fromInfinity = 0;
+            double worst = 0, acceptance = 0;
+            for (const auto& x : paths) {
+                if (!mutation->suitable(x)) continue;
+                ++suitable;
+                for (int j = 0; j < 20; ++j) {
+                    Proposal p;
+                    mutation->propose(x, rng, p);
+                    if (p.failed) {
+                        ++failed;
+                        continue;
+                    }
+                    ++checked;
+                    fromInfinity += x.v[0].infinite;
+                    for (const auto& v : p.y.v)
+                        specular += isSpecular(v);
+                    const double mismatch = proposalDensityMismatch(*mutation, p);
+                    worst = std::max(worst, mismatch);
+                    off += mismatch > 1e-3;
+                    acceptance += std::min(1.0, p.reverseQ / p.forwardQ);
+                    // The reverse move rebuilt from the paths alone.
+                    double reverseT = 0, rebuiltTheta = 0;
+                    if (name == "caustic") {
+                        const auto& caustic = static_cast<const CausticPerturbation&>(*mutation);
+                        const int l = CausticPerturbation::chainStart(x);
+                        const Vec3 a = x.v[size_t(l)].directionTo(x.v[size_t(l) + 1]);
+                        const Vec3 c = p.y.v[size_t(l)].directionTo(p.y.v[size_t(l) + 1]);
+                        double step = std::atan2(length(cross(a, c)), dot(a, c));
+                        if (x.v[size_t(l)].infinite) { // the parallel ray moved sideways: x_1's offset across it
+                            const Vec3 d = p.y.v[1].p() - x.v[1].p();
+                            step = length(d - a * dot(d, a));
                         }
-                        const auto& multi = static_cast<const MultiChainPerturbation&>(*mutation);
-                        if (multi.density(p.y, pOffset, thetas) == 0) continue; // a turn below float precision
-                        reverseT = multi.density(x, pOffset, thetas) / multi.density(p.y, pOffset, thetas) *
-                                   p.forwardQ * p.y.target;
+                        reverseT = caustic.chainDensity(x, caustic.stepDensity(p.y, step));
+                        rebuiltTheta = step / caustic.steps(p.y).lo;
+                        // Near a range's end the rebuilt angle may fall on the other side of it.
+                        if (reverseT == 0 && p.reverseQ == 0) continue;
+                    } else {
+                        const double r = length(p.y.raster - x.raster);
+                        const double pOffset = rasterRadii(scene->camera).planeDensity(r);
+                        if (name == "lens-subpath") {
+                            reverseT = static_cast<const LensSubpathMutation&>(*mutation).subpathDensity(
+                                x.v, firstNonSpecularFromEye(x.v));
+                        } else if (name == "lens") {
+                            reverseT = pOffset * eyeChainDensity(*scene, sensor, x.v, firstNonSpecularFromEye(x.v));
+                        } else {
+                            // Each turned direction: the angle between the old and the new one at the stop. Turns of
+                            // 1e-6 rad are not recoverable from float hit points, but the kernel is the same both
+                            // ways: compare T(y -> x) / T(x -> y) rebuilt, with the rebuilt angles in both.
+                            const auto stops = MultiChainPerturbation::stops(x);
+                            std::vector<double> thetas;
+                            for (size_t s = 0; s + 1 < stops.size(); ++s) {
+                                const size_t d = size_t(stops[s]);
+                                const Vec3 a = x.v[d].directionTo(x.v[d - 1]);
+                                const Vec3 c = p.y.v[d].directionTo(p.y.v[d - 1]);
+                                thetas.push_back(std::atan2(length(cross(a, c)), dot(a, c)));
+                            }
+                            const auto& multi = static_cast<const MultiChainPerturbation&>(*mutation);
+                            if (multi.density(p.y, pOffset, thetas) == 0) continue; // a turn below float precision
+                            reverseT = multi.density(x, pOffset, thetas) / multi.density(p.y, pOffset, thetas) *
+                                       p.forwardQ * p.y.target;
+                        }
+                    }
+                    // Rebuilt from hit points (float barycentrics, offset ray origins): within 1 %; the caustic's
+                    // rebuilt angle carries the ray-origin offset, 1-2 % of theta near theta1 (measured), so 5 %.
+                    const double balance = std::abs(reverseT / (p.reverseQ * x.target) - 1);
+                    if (!(balance < (name == "caustic" ? 5e-2 : 1e-2))) {
+                        ++balanceOff;
+                        UNSCOPED_INFO(name << ": reverse density off by " << balance << ", theta / theta1 "
+                                           << rebuiltTheta);
                     }
                 }
-                // Rebuilt from hit points (float barycentrics, offset ray origins): within 1 %; the caustic's
-                // rebuilt angle carries the ray-origin offset, 1-2 % of theta near theta1 (measured), so 5 %.
-                const double balance = std::abs(reverseT / (p.reverseQ * x.target) - 1);
-                if (!(balance < (name == "caustic" ? 5e-2 : 1e-2))) {
-                    ++balanceOff;
-                    UNSCOPED_INFO(name << ": reverse density off by " << balance << ", theta / theta1 "
-                                       << rebuiltTheta);
-                }
             }
+            INFO(name << ": " << suitable << " suitable seed paths, " << checked << " proposals checked (" << failed
+                      << " failed), " << specular << " specular vertices; " << off
+                      << " densities off by more than 1e-3, the worst by " << worst << "; " << balanceOff
+                      << " reverse densities off by more than 1 %; mean acceptance "
+                      << acceptance / std::max(1, checked));
+            CHECK(checked > (name == "multi-chain" ? 100 : 1000));
+            if (name == "caustic" || name == "multi-chain") CHECK(specular > checked); // through a specular chain
+            if (name == "lens-subpath") CHECK(specular > checked / 20); // lens subpaths through the spheres
+            // Tolerances as in the bidirectional test (offset ray origins and float hit points); a wrong measure,
+            // transport mode or lobe factor would be off on most proposals.
+            CHECK(off < checked / 100 + 1);
+            CHECK(worst < 0.5);
+            CHECK(balanceOff < checked / 100 + 1);
+            if (std::string(sceneName) == "sun-caustic") CHECK(fromInfinity > checked / 2);
         }
-        INFO(name << ": " << suitable << " suitable seed paths, " << checked << " proposals checked (" << failed
-                  << " failed), " << specular << " specular vertices; " << off
-                  << " densities off by more than 1e-3, the worst by " << worst << "; " << balanceOff
-                  << " reverse densities off by more than 1 %; mean acceptance " << acceptance / std::max(1, checked));
-        CHECK(checked > (name == "multi-chain" ? 100 : 1000));
-        if (name == "caustic" || name == "multi-chain") CHECK(specular > checked); // through a specular chain
-        if (name == "lens-subpath") CHECK(specular > checked / 20);                // lens subpaths through the spheres
-        // Tolerances as in the bidirectional test (offset ray origins and float hit points); a wrong measure,
-        // transport mode or lobe factor would be off on most proposals.
-        CHECK(off < checked / 100 + 1);
-        CHECK(worst < 0.5);
-        CHECK(balanceOff < checked / 100 + 1);
     }
 }
 
@@ -644,8 +658,9 @@ TEST_CASE("each perturbation mixed with the bidirectional mutation converges to 
     // The lens perturbation on the diffuse cornell-box and on the spheres, the caustic and
     // multi-chain perturbations where their paths occur (glass and mirror spheres), the lens-subpath
     // mutation through the spheres seen by the camera, the manifold perturbation through both (caustics
-    // seen directly and through the glass). Each must also have moved the chains.
-    std::vector<MutationStatistics> stats(6);
+    // seen directly and through the glass), and the caustic and manifold perturbations under a sky and a
+    // sun (light vertices at infinity). Each must also have moved the chains.
+    std::vector<MutationStatistics> stats(8);
     {
         auto scene = loadScene(test::shippedScene("cornell-box"));
         checkAgainstBdpt(*scene, 4, 6, {{"bidirectional,lens", pathRuns(*scene, "bidirectional,lens", 4, &stats[0])}});
@@ -657,6 +672,10 @@ TEST_CASE("each perturbation mixed with the bidirectional mutation converges to 
                       {"bidirectional,multi-chain", pathRuns(*scene, "bidirectional,multi-chain", 5, &stats[3])},
                       {"bidirectional,lens-subpath", pathRuns(*scene, "bidirectional,lens-subpath", 5, &stats[4])},
                       {"bidirectional,manifold", pathRuns(*scene, "bidirectional,manifold", 5, &stats[5])}});
+    auto sun = loadScene(test::shippedScene("sun-caustic"));
+    checkAgainstBdpt(*sun, 5, 6,
+                     {{"bidirectional,caustic", pathRuns(*sun, "bidirectional,caustic", 5, &stats[6])},
+                      {"bidirectional,manifold", pathRuns(*sun, "bidirectional,manifold", 5, &stats[7])}});
     for (const auto& st : stats) {
         INFO(st.text());
         REQUIRE(st.strategies().size() == 2);

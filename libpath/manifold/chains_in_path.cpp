@@ -11,9 +11,10 @@ namespace lt {
 
 namespace {
 
-// A vertex in the manifold's chart: on its surface, or a point (camera, point light, a vertex at
-// infinity) with the chart of the plane facing its neighbour.
+// A vertex in the manifold's chart: on its surface, at infinity (environment, directional light), or a
+// point (camera, point light) with the chart of the plane facing its neighbour.
 std::optional<ManifoldVertex> chartOf(const PathVertex& v, const PathVertex& neighbour) {
+    if (v.infinite) return infiniteVertex(v.p(), -v.ng()); // ng: the direction of travel
     if (v.type == VertexType::Camera || !v.isOnSurface() || v.si.shape < 0) {
         const Vec3 d = neighbour.p() - v.p();
         if (!(lengthSquared(d) > 0)) return std::nullopt;

@@ -81,12 +81,14 @@ std::optional<double> offsetChartDeterminant(std::span<const ManifoldVertex> cha
 }
 
 double geometryTerm(const ManifoldVertex& a, const ManifoldVertex& b) {
-    PathVertex va, vb;
-    va.si.p = a.p;
-    va.si.ng = a.ng;
-    vb.si.p = b.p;
-    vb.si.ng = b.ng;
-    return geometryTerm(va, vb);
+    const auto asPathVertex = [](const ManifoldVertex& m) {
+        PathVertex v;
+        v.si.p = m.p;
+        v.infinite = m.atInfinity;
+        v.si.ng = m.atInfinity ? -m.n : m.ng; // at infinity: the direction of travel (path/vertex.h)
+        return v;
+    };
+    return geometryTerm(asPathVertex(a), asPathVertex(b));
 }
 
 ManifoldChain reversed(std::span<const ManifoldVertex> chain) {

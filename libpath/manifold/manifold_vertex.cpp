@@ -56,6 +56,12 @@ ManifoldVertex pointVertex(const Vec3& p, const Vec3& axis) {
     return v;
 }
 
+ManifoldVertex infiniteVertex(const Vec3& far, const Vec3& toward) {
+    ManifoldVertex v = pointVertex(far, toward);
+    v.atInfinity = true;
+    return v;
+}
+
 std::optional<Vec3> microfacetNormal(const ManifoldVertex& v, const Vec2& offset) {
     const Vec3 s = v.s(), t = v.t();
     const Mat2 gram{{{{dot(s, s), dot(s, t)}, {dot(s, t), dot(t, t)}}}};

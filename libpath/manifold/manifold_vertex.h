@@ -41,6 +41,11 @@ struct ManifoldVertex {
     Vec3 dndu, dndv; // derivatives of the shading normal along the chart
     Vec3 frameU{1, 0, 0}, frameV{0, 1, 0}; // the frame generators a, b of the convention above
     int shape = -1;  // Scene::shapes index (-1: no surface)
+    // A light vertex at infinity (environment, directional light): n is the unit direction toward it
+    // from the scene and p a point far along it, and that direction stays the same whatever the other
+    // vertices do. A chain holds such an end fixed: the positional constraint becomes a directional one
+    // (HSLT Sec. 4.5, after Jakob 2013, p. 70), and the distance to it is infinite (no derivative).
+    bool atInfinity = false;
     uint32_t prim = 0;
     Vec2 coords; // as SurfaceInteraction::coords
     double magnitude = 0;
@@ -51,6 +56,8 @@ struct ManifoldVertex {
     Vec2 offset;    // constraint value held by walks: 0 if specular, the microfacet normal's o_i (ME Eq. 11)
 
     [[nodiscard]] bool onSurface() const { return lengthSquared(ng) > 0; }
+    // The direction from `from` toward this vertex, not normalized (the fixed direction at infinity).
+    [[nodiscard]] Vec3 seenFrom(const Vec3& from) const { return atInfinity ? n : p - from; }
     [[nodiscard]] RayEndpoint endpoint() const { return {p, ng, magnitude}; }
     // The tangent frame T(x) = [s t] of the convention above.
     [[nodiscard]] Vec3 s() const { return frameU - n * dot(frameU, n); }
@@ -68,6 +75,9 @@ struct ManifoldVertex {
 // A point without surface (pinhole, point light): position only, with the chart of the plane
 // perpendicular to `axis` so that chart coordinates exist; n = axis, ng = 0, no curvature.
 [[nodiscard]] ManifoldVertex pointVertex(const Vec3& p, const Vec3& axis);
+// A light vertex at infinity seen along the unit direction `toward` (from the scene toward it), placed at
+// the point `far` along it.
+[[nodiscard]] ManifoldVertex infiniteVertex(const Vec3& far, const Vec3& toward);
 // A point of a plane with unit normal `normal` (flat chart, no curvature): the virtual plane of the
 // walk's last vertex.
 [[nodiscard]] ManifoldVertex planeVertex(const Vec3& p, const Vec3& normal);

@@ -100,9 +100,12 @@ PropagateResult propagateChain(const Scene& scene, std::span<const ManifoldVerte
     PropagateResult r;
     r.chain.reserve(X.size());
     r.chain.push_back(X.front());
-    Vec3 dir = normalize(toward - X.front().p);
+    // From a vertex at infinity the ray keeps its direction and comes from beyond the scene through `toward`.
+    ManifoldVertex origin = X.front();
+    if (origin.atInfinity) origin.p = scene.sceneDisk().beyond(toward, origin.n);
+    Vec3 dir = origin.atInfinity ? -origin.n : normalize(toward - origin.p);
     for (size_t j = 1; j + 1 < X.size(); ++j) {
-        const ManifoldVertex& prev = r.chain.back();
+        const ManifoldVertex& prev = j == 1 ? origin : r.chain.back();
         const ManifoldVertex& old = X[j];
         const auto si = traceSurface(scene, prev, dir);
         if (!si || si->shape != old.shape) {
@@ -116,7 +119,7 @@ PropagateResult propagateChain(const Scene& scene, std::span<const ManifoldVerte
         v->scatter = old.scatter;
         v->eta = old.eta;
         v->offset = old.offset;
-        const auto scattered = scatterHeld(*v, -dir, X[j - 1].p - old.p, old.ng);
+        const auto scattered = scatterHeld(*v, -dir, X[j - 1].seenFrom(old.p), old.ng);
         if (const auto* failure = std::get_if<WalkFailure>(&scattered)) return {*failure, {}};
         dir = std::get<Vec3>(scattered);
         r.chain.push_back(*v);
@@ -140,8 +143,10 @@ WalkResult walkLast(const Scene& scene, ManifoldChain X, const ManifoldVertex& t
     const double tol = settings.relativeTolerance * std::max(scene.bounds.diagonal(), 1e-300);
     const auto finish = [&](ManifoldChain chain) {
         chain.back() = target;
+        const ManifoldVertex& before = chain[chain.size() - 2];
         if (settings.checkVisibility &&
-            !unoccluded(scene, chain[chain.size() - 2].endpoint(), chain.back().endpoint())) {
+            !(before.atInfinity ? escapes(scene, target.endpoint(), before.n)
+                                : unoccluded(scene, before.endpoint(), target.endpoint()))) {
             res.failure = WalkFailure::Occluded;
             return res;
         }

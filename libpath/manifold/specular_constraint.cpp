@@ -18,13 +18,15 @@ struct HalfVectorState {
 std::optional<HalfVectorState> halfVectorState(const ManifoldVertex& prev, const ManifoldVertex& v,
                                                const ManifoldVertex& next) {
     HalfVectorState st;
-    const Vec3 di = prev.p - v.p, dout = next.p - v.p;
+    const Vec3 di = prev.seenFrom(v.p), dout = next.seenFrom(v.p);
     const double li = length(di), lo = length(dout);
     if (!(li > 0) || !(lo > 0) || !std::isfinite(li) || !std::isfinite(lo)) return std::nullopt;
-    st.invDi = 1 / li;
-    st.invDo = 1 / lo;
-    st.wi = di * st.invDi;
-    st.wo = dout * st.invDo;
+    const double invLi = 1 / li, invLo = 1 / lo;
+    st.wi = di * invLi;
+    st.wo = dout * invLo;
+    // A direction toward a vertex at infinity does not turn when a vertex moves: inverse distance 0.
+    st.invDi = prev.atInfinity ? 0.0 : invLi;
+    st.invDo = next.atInfinity ? 0.0 : invLo;
     const Vec3 H = halfVectorUnnormalized(st.wi, st.wo, v.eta);
     if (v.indexMatched()) {
         st.h = H;
@@ -89,7 +91,7 @@ std::optional<ConstraintRow> constraintRow(const ManifoldVertex& prev, const Man
 
 bool setScattering(ManifoldVertex& v, const ManifoldVertex& prev, const ManifoldVertex& next,
                    std::optional<InterfaceEta> eta, bool specular) {
-    const Vec3 wi = prev.p - v.p, wo = next.p - v.p;
+    const Vec3 wi = prev.seenFrom(v.p), wo = next.seenFrom(v.p);
     const bool transmission = dot(wi, v.ng) * dot(wo, v.ng) < 0;
     v.scatter = transmission ? Scatter::Transmission : Scatter::Reflection;
     v.eta = 1;

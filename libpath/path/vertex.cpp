@@ -32,6 +32,9 @@ Spectrum PathVertex::f(const PathVertex& next, Transport mode) const {
 double PathVertex::convertDensity(double pdfSolidAngle, const PathVertex& next) const {
     // Directions to an environment vertex keep their solid-angle measure (pbrt-v3 ConvertDensity).
     if (next.infinite) return pdfSolidAngle;
+    // An environment vertex's rays are parallel: the density is one on the plane perpendicular to them,
+    // and reaches `next` as area density times |cos| there (no distance).
+    if (infinite) return next.isOnSurface() ? pdfSolidAngle * std::abs(dot(next.si.ng, si.ng)) : pdfSolidAngle;
     return pdfSolidAngleToArea(pdfSolidAngle, si.p, next.si.p, next.isOnSurface() ? next.si.ng : Vec3());
 }
 
@@ -50,14 +53,8 @@ double PathVertex::pdf(const Scene& scene, const PathVertex* prev, const PathVer
 }
 
 double PathVertex::pdfLight(const Scene& scene, const PathVertex& next) const {
-    if (infinite) {
-        // Environment emission starts on a disk of the scene's radius perpendicular to the direction
-        // (emitter.h); the parallel rays reach `next` with area density pdfPos |cos| (no distance).
-        const double r = scene.sceneRadius();
-        double pdf = 1.0 / (Pi * r * r);
-        if (next.isOnSurface()) pdf *= std::abs(dot(next.si.ng, si.ng));
-        return pdf;
-    }
+    // Environment emission starts uniformly on the scene's disk perpendicular to the direction (emitter.h).
+    if (infinite) return convertDensity(scene.sceneDisk().pdf(), next);
     if (!emitter) return 0;
     const Vec3 w = directionTo(next);
     double pdfPos = 0, pdfDir = 0;

@@ -61,7 +61,8 @@ struct PathVertex {
     [[nodiscard]] Spectrum Le(const Scene& scene, const PathVertex& toward) const;
 
     // Convert a solid-angle density at this vertex into the density of `next` (area, or kept in solid
-    // angle when next is at infinity). The one place for this conversion in path construction.
+    // angle when next is at infinity); at an environment vertex, whose rays are parallel, the density is
+    // one on the plane perpendicular to them. The one place for this conversion in path construction.
     [[nodiscard]] double convertDensity(double pdfSolidAngle, const PathVertex& next) const;
 };
 

@@ -160,17 +160,11 @@ void Bdpt::lightSubpath(SampleGenerator& sampler, std::vector<PathVertex>& path,
     const double cosine = lengthSquared(es.n) > 0 && !v.infinite ? std::abs(dot(es.n, es.d)) : 1.0;
     const Spectrum beta = es.value * (cosine / (pmf * es.pdfPos * es.pdfDir));
     const Ray ray = v.isOnSurface() ? spawnRay(v.si.endpoint(), es.d) : Ray{es.p, es.d};
-    randomWalk(ray, beta, es.pdfDir, sampler, Transport::Importance, limit - 1, path);
-
     // An environment vertex has no area: the next vertex's density is the disk's position density
-    // (parallel rays), and the vertex's own is the density of its direction (pbrt-v3 16.3.2).
-    if (v.infinite) {
-        if (path.size() > 1) {
-            path[1].pdfFwd = es.pdfPos;
-            if (path[1].isOnSurface()) path[1].pdfFwd *= std::abs(dot(es.d, path[1].si.ng));
-        }
-        path[0].pdfFwd = infiniteLightDensity(scene_, -es.d);
-    }
+    // (parallel rays: PathVertex::convertDensity), and the vertex's own is the density of its direction
+    // (pbrt-v3 16.3.2).
+    randomWalk(ray, beta, v.infinite ? es.pdfPos : es.pdfDir, sampler, Transport::Importance, limit - 1, path);
+    if (v.infinite) path[0].pdfFwd = infiniteLightDensity(scene_, -es.d);
 }
 
 Spectrum Bdpt::connect(std::vector<PathVertex>& light, std::vector<PathVertex>& camera, int s, int t,

@@ -11,6 +11,13 @@
 //
 // T in the measure of f: the solid-angle density of the new direction at x_l converted to the area of
 // x_{l+1}', times G for each vertex after a specular one (the stripped density with the lobe fixed).
+//
+// A light at infinity (environment, directional light: sky or sun through glass) has no position to turn
+// a direction at, and a directional light no other direction: there the direction stays and the parallel
+// ray is moved sideways instead, by an offset of length r in the plane perpendicular to it with density
+// proportional to 1 / r on [r1, r2], r_{1,2} = (radians per pixel) r_{1,2} d_E (a sideways move of the
+// beam moves x_{k-1} about as far). Its density is one on that plane, which PathVertex::convertDensity
+// turns into the area of x_1' (times |cos| there).
 #pragma once
 
 #include "mcmc/mutation.h"
@@ -26,11 +33,14 @@ public:
     [[nodiscard]] bool suitable(const MarkovPath& x) const override;
     void propose(const MarkovPath& x, Pcg32& rng, Proposal& out) const override;
 
-    // The angle range of a suitable path (evaluated at each state: T(y -> x) needs y's own range).
-    [[nodiscard]] ReciprocalKernel angles(const MarkovPath& path) const;
-    // The stripped area density of the chain's vertices x_{l+1} .. x_{k-1} given the direction's
-    // solid-angle density at x_l.
-    [[nodiscard]] double chainDensity(const MarkovPath& path, double pdfDir) const;
+    // The range of the step of a suitable path: the angle theta, or at a light at infinity the sideways
+    // offset r (evaluated at each state: T(y -> x) needs y's own range).
+    [[nodiscard]] ReciprocalKernel steps(const MarkovPath& path) const;
+    // The density of a step of that size, azimuth uniform, in x_l's measure (solid angle; at infinity the
+    // plane perpendicular to the rays).
+    [[nodiscard]] double stepDensity(const MarkovPath& path, double step) const;
+    // The stripped area density of the chain's vertices x_{l+1} .. x_{k-1} given the step's density.
+    [[nodiscard]] double chainDensity(const MarkovPath& path, double pdfStep) const;
     // x_l: the non-specular vertex or light at the light end of the chain before x_{k-1}.
     [[nodiscard]] static int chainStart(const MarkovPath& path);
 

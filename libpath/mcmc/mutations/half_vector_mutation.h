@@ -60,7 +60,8 @@ public:
     HalfVectorMutation(const Scene& scene, double gamma = 0.1, double stratify = 0.02, bool jumps = true);
 
     [[nodiscard]] std::string name() const override { return "hslt"; }
-    // At least one non-specular interior vertex, and no vertex at infinity (lt's chains hold none yet).
+    // At least one non-specular interior vertex, and no vertex at infinity (the projections trace from
+    // the endpoints' positions; a direction end is not carried through them yet).
     [[nodiscard]] bool suitable(const MarkovPath& x) const override;
     void propose(const MarkovPath& x, Pcg32& rng, Proposal& out) const override;
 

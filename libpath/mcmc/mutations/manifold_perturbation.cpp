@@ -69,13 +69,15 @@ double ManifoldPerturbation::stagesProbability(const MarkovPath& path, const Sta
 }
 
 bool ManifoldPerturbation::suitable(const MarkovPath& x) const {
-    // x_a, x_b and x_c; a light at infinity has no position to turn a direction at (lt's chains do not
-    // hold such paths yet).
-    return nonSpecularCount(x) >= 3 && !x.v[0].infinite;
+    // x_a, x_b and x_c. A light at infinity is never x_a (stagesFrom) but may be x_c: the walk holds its
+    // direction (manifold_vertex.h).
+    return nonSpecularCount(x) >= 3;
 }
 
 std::optional<ManifoldPerturbation::Stages> ManifoldPerturbation::stagesFrom(const MarkovPath& path, int a, int step) {
     const int k = path.edges();
+    // A light at infinity has no position to turn a direction at.
+    if (path.v[size_t(a)].infinite) return std::nullopt;
     const auto nextNonSpecular = [&](int from) {
         int i = from + step;
         while (i >= 0 && i <= k && isSpecular(path.v[size_t(i)]))

@@ -47,6 +47,33 @@ enum class CombineCode : uint32_t { WeightedMean = 1, Sum = 2 };
 
 std::string errnoText(int err) { return std::generic_category().message(err); }
 
+// INFO is a flat object with a few nested levels; JSON nested thousands of levels deep is a damaged or
+// hostile file, and copying, printing or freeing such a value recurses once per level (stack overflow).
+constexpr size_t kMaxInfoNesting = 64;
+
+// The deepest nesting of arrays and objects in JSON text: brackets outside strings.
+size_t jsonNesting(std::string_view text) {
+    size_t depth = 0, deepest = 0;
+    bool inString = false, escaped = false;
+    for (const char c : text) {
+        if (inString) {
+            if (escaped)
+                escaped = false;
+            else if (c == '\\')
+                escaped = true;
+            else if (c == '"')
+                inString = false;
+        } else if (c == '"') {
+            inString = true;
+        } else if (c == '{' || c == '[') {
+            deepest = std::max(deepest, ++depth);
+        } else if ((c == '}' || c == ']') && depth > 0) {
+            --depth;
+        }
+    }
+    return deepest;
+}
+
 const char* kindName(FileKind kind) { return kind == FileKind::Paths ? "paths" : "buffer"; }
 
 uint32_t le32(const unsigned char* p) {
@@ -650,6 +677,8 @@ struct Reader::Impl {
     void readInfo() {
         const std::optional<std::string> payload = readChunk();
         if (tag != kInfo) chunkError("the first chunk must be INFO");
+        if (jsonNesting(*payload) > kMaxInfoNesting)
+            chunkError("INFO nests deeper than " + std::to_string(kMaxInfoNesting) + " levels");
         info = nlohmann::json::parse(*payload, nullptr, /*allow_exceptions=*/false);
         if (info.is_discarded()) chunkError("INFO is not valid JSON");
         if (!info.is_object()) chunkError("INFO is not a JSON object");

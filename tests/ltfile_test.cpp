@@ -423,6 +423,17 @@ TEST_CASE("versions, kinds and magic are checked", "[format]") {
                                 ": a BUFR chunk belongs in a buffer file, this is a paths file");
     const std::string notObject = dir.write("array", fileHeader(1, FileKind::Paths) + chunk("INFO", "[1]"));
     CHECK(errorOf(notObject) == notObject + ": chunk 1 (INFO) at byte 12: INFO is not a JSON object");
+    // Valid JSON nested 200 000 levels deep (the probe's crash: copying or freeing it recursed off the
+    // stack) is refused before it is parsed; 64 levels, inside a string brackets do not count, are read.
+    const std::string deep =
+        dir.write("deep", fileHeader(1, FileKind::Paths) +
+                              chunk("INFO", "{\"a\":" + std::string(200000, '[') + std::string(200000, ']') + "}"));
+    CHECK(errorOf(deep) == deep + ": chunk 1 (INFO) at byte 12: INFO nests deeper than 64 levels");
+    const std::string nested =
+        "{\"s\":\"" + std::string(100, '[') + "\",\"a\":" + std::string(63, '[') + std::string(63, ']') + "}";
+    const std::string fine =
+        dir.write("fine", fileHeader(1, FileKind::Paths) + chunk("INFO", nested) + chunk("END!", ""));
+    CHECK(errorOf(fine) == "(no error)");
 }
 
 TEST_CASE("huge declared lengths are rejected without allocating them", "[format]") {

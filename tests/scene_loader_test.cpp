@@ -397,6 +397,15 @@ TEST_CASE("bad input: one clear error line naming file, line and element", "[loa
                        "<string name=\"filename\" value=\"tex.png\"/>\n</texture>\n</bsdf>");
         CHECK_THAT(errorOf(f), StartsWith(f + ":3: <texture type=\"bitmap\">: " + dir.file("tex.png")));
     }
+    SECTION("elements nested 100 000 deep (the probe's crash: the parser's recursion ran off the stack)") {
+        std::string body;
+        for (int i = 0; i < 100000; ++i)
+            body += "<bsdf type=\"twosided\">";
+        for (int i = 0; i < 100000; ++i)
+            body += "</bsdf>";
+        sceneFile(dir, body);
+        CHECK_THAT(errorOf(f), Equals(f + ":2: <bsdf>: elements nested deeper than 64 levels"));
+    }
     SECTION("area emitter outside a shape") {
         sceneFile(dir, "<emitter type=\"area\"/>");
         CHECK_THAT(errorOf(f), Equals(f + ":2: <emitter type=\"area\">: an area emitter must be nested inside a <shape>"));

@@ -415,6 +415,6 @@ int main(int argc, char** argv) {
             if (stats.health.nonFinite) std::cerr << " (" << stats.health.nonFinite << " non-finite samples dropped)";
             std::cerr << '\n';
         }
-        return stats.interrupted ? 130 : 0;
+        return stats.interrupted ? lt::tool::interruptedExitCode() : 0;
     });
 }

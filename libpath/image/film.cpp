@@ -5,12 +5,19 @@
 #include <algorithm>
 #include <cmath>
 
+#include "math/memory_budget.h"
+
 namespace lt {
 
 SampleFilm::SampleFilm(const PerspectiveCamera& camera, std::vector<std::string> planes)
     : filter_(camera.film().filter), planeNames_(std::move(planes)) {
     const auto& f = camera.film();
     window_ = {f.cropX, f.cropY, f.cropX + f.cropWidth, f.cropY + f.cropHeight};
+    // Sums and splats in double, the sample counts, and the developed float image a tool writes.
+    const double bytesPerPixel = double(3 * (2 + planeNames_.size())) * sizeof(double) + sizeof(uint32_t) +
+                                 double(3 * (1 + planeNames_.size())) * sizeof(float);
+    requireMemory(bytesPerPixel * double(window_.area()),
+                  "a film of " + std::to_string(window_.width()) + "x" + std::to_string(window_.height()) + " pixels");
     sum_.assign(window_.area() * 3, 0.0);
     splat_.assign(window_.area() * 3, 0.0);
     planeSums_.assign(planeNames_.size(), std::vector<double>(window_.area() * 3, 0.0));

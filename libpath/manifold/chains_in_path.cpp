@@ -78,6 +78,7 @@ void checkChain(const Scene& scene, ChainInPath& c, WalkStatistics& stats, doubl
     const bool last = c.moving == WalkEnd::Last;
     const ManifoldVertex end = last ? c.chain.back() : c.chain.front();
     if (!end.onSurface()) return;
+    c.walkable = true;
     // The stored vertices come from float intersections, on the manifold only to about 1e-7 relative,
     // amplified along the chain. Re-trace the chain from its pinned end (ending on the tangent plane of
     // the moving end) and walk it to the stored endpoint: the walk "from the path to itself", whose
@@ -113,7 +114,7 @@ void checkChain(const Scene& scene, ChainInPath& c, WalkStatistics& stats, doubl
 void printManifoldReport(std::ostream& out, const Scene& scene, std::span<const file::PathRecord> paths,
                          size_t listed) {
     WalkStatistics stats;
-    size_t withChains = 0, chains = 0, rebuilt = 0, exactConverged = 0;
+    size_t withChains = 0, chains = 0, rebuilt = 0, walkable = 0, exactConverged = 0;
     const auto outcome = [](const WalkResult& w) {
         return w.converged() ? "converged in " + std::to_string(w.iterations)
                              : "failed (" + std::string(walkFailureName(w.failure)) + ")";
@@ -135,18 +136,22 @@ void printManifoldReport(std::ostream& out, const Scene& scene, std::span<const 
         for (ChainInPath& c : found) {
             ++chains;
             checkChain(scene, c, stats);
-            if (!c.chain.empty()) {
-                ++rebuilt;
-                exactConverged += c.exact.converged();
-            }
+            rebuilt += !c.chain.empty();
+            walkable += c.walkable;
+            exactConverged += c.walkable && c.exact.converged();
             if (!show) continue;
             out << "  chain vertices " << c.first << ".." << c.last << ": ";
             if (c.chain.empty()) {
                 out << "could not be rebuilt on this scene\n";
                 continue;
             }
-            out << "G = " << (c.G ? std::to_string(*c.G) : std::string("singular")) << ", walk of the "
-                << (c.moving == WalkEnd::Last ? "eye" : "light") << " end to itself: " << outcome(c.exact);
+            out << "G = " << (c.G ? std::to_string(*c.G) : std::string("singular"));
+            if (!c.walkable) {
+                out << ", no end with a surface to walk (a pinhole or a light at infinity at both ends)\n";
+                continue;
+            }
+            out << ", walk of the " << (c.moving == WalkEnd::Last ? "eye" : "light")
+                << " end to itself: " << outcome(c.exact);
             if (c.perturbed) {
                 out << "; to a nearby point: " << outcome(*c.perturbed);
                 if (c.reverse) out << ", back: " << outcome(*c.reverse);
@@ -157,7 +162,8 @@ void printManifoldReport(std::ostream& out, const Scene& scene, std::span<const 
     if (withChains > listed) out << "(" << withChains - listed << " more paths with chains not listed)\n";
     if (unfit > 0) out << unfit << " paths do not fit this scene and were skipped (the first: " << firstUnfit << ")\n";
     out << "paths " << paths.size() << ", with specular chains " << withChains << ", chains " << chains << " (rebuilt "
-        << rebuilt << "), walks to themselves converged " << exactConverged << "/" << rebuilt << "\n";
+        << rebuilt << ", with an end to walk " << walkable << "), walks to themselves converged " << exactConverged
+        << "/" << walkable << "\n";
     out << "walks to a nearby point (relative step 1e-3 of the scene diagonal, reverse walk included):\n";
     stats.print(out);
 }

@@ -22,6 +22,7 @@ struct ChainInPath {
     ManifoldChain chain;                 // in the manifold's charts; empty where a chart is degenerate
     std::optional<double> G;             // ME Eq. 9
     WalkEnd moving = WalkEnd::Last;      // the end walked: the eye end unless it has no surface
+    bool walkable = false;               // it has an end with a surface to walk (camera to sky has none)
     WalkResult exact;                    // the re-traced chain walked to its own stored endpoint
     std::optional<WalkResult> perturbed; // walk to a nearby point of the same surface, if one was found
     std::optional<WalkResult> reverse;   // the reverse walk of a converged perturbed walk (ME section 5.1)

@@ -124,8 +124,8 @@ PropagateResult propagateChain(const Scene& scene, std::span<const ManifoldVerte
         dir = std::get<Vec3>(scattered);
         r.chain.push_back(*v);
     }
-    // The last segment ends on the virtual plane, not on the scene.
-    const ManifoldVertex& prev = r.chain.back();
+    // The last segment ends on the virtual plane, not on the scene (from `origin` if it is the first).
+    const ManifoldVertex& prev = r.chain.size() == 1 ? origin : r.chain.back();
     const double cosPlane = dot(dir, plane.n);
     const double t = dot(plane.p - prev.p, plane.n) / cosPlane;
     if (!(std::abs(cosPlane) > 1e-9) || !(t > 0) || !std::isfinite(t)) return {WalkFailure::LeftSurface, {}};

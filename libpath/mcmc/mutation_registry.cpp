@@ -65,7 +65,8 @@ const MutationKind Kinds[] = {
      },
      always},
     {"caustic", "perturbation",
-     "turns the light end of (L|D) S+ D E paths: caustics on a diffuse surface seen directly",
+     "turns the light end of (L|D) S+ D E paths (moves a sky's or sun's ray sideways): caustics on a diffuse "
+     "surface seen directly",
      [](const Scene& s, const MutationSettings&) -> std::unique_ptr<Mutation> {
          return std::make_unique<CausticPerturbation>(s);
      },

@@ -29,13 +29,13 @@ Spectrum PathVertex::f(const PathVertex& next, Transport mode) const {
     return worldBsdf().eval(wi, directionTo(next), mode);
 }
 
-double PathVertex::convertDensity(double pdfSolidAngle, const PathVertex& next) const {
+double PathVertex::convertDensity(double pdf, const PathVertex& next) const {
     // Directions to an environment vertex keep their solid-angle measure (pbrt-v3 ConvertDensity).
-    if (next.infinite) return pdfSolidAngle;
+    if (next.infinite) return pdf;
     // An environment vertex's rays are parallel: the density is one on the plane perpendicular to them,
     // and reaches `next` as area density times |cos| there (no distance).
-    if (infinite) return next.isOnSurface() ? pdfSolidAngle * std::abs(dot(next.si.ng, si.ng)) : pdfSolidAngle;
-    return pdfSolidAngleToArea(pdfSolidAngle, si.p, next.si.p, next.isOnSurface() ? next.si.ng : Vec3());
+    if (infinite) return next.isOnSurface() ? pdf * std::abs(dot(next.si.ng, si.ng)) : pdf;
+    return pdfSolidAngleToArea(pdf, si.p, next.si.p, next.isOnSurface() ? next.si.ng : Vec3());
 }
 
 double PathVertex::pdf(const Scene& scene, const PathVertex* prev, const PathVertex& next) const {

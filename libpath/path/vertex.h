@@ -63,7 +63,7 @@ struct PathVertex {
     // Convert a solid-angle density at this vertex into the density of `next` (area, or kept in solid
     // angle when next is at infinity); at an environment vertex, whose rays are parallel, the density is
     // one on the plane perpendicular to them. The one place for this conversion in path construction.
-    [[nodiscard]] double convertDensity(double pdfSolidAngle, const PathVertex& next) const;
+    [[nodiscard]] double convertDensity(double pdf, const PathVertex& next) const;
 };
 
 // The geometry term between two vertices with geometric normals (Jakob & Marschner 2012, Eq. 5), visibility

@@ -348,8 +348,14 @@ private:
         return mitsuba3PropertyName(written);
     }
 
-    void parseChild(const pugi::xml_node& node, SceneObject& owner, const Source& src) {
+    // Objects nest a few levels in real scenes (shape > bsdf > bsdf > texture); a limit keeps a malicious or
+    // broken file from exhausting the stack in this recursion (and in the tree's destruction).
+    static constexpr int MaxNesting = 64;
+
+    void parseChild(const pugi::xml_node& node, SceneObject& owner, const Source& src, int depth = 1) {
         if (node.type() != pugi::node_element) return;
+        if (depth > MaxNesting)
+            fail(src, node, "elements nested deeper than " + std::to_string(MaxNesting) + " levels");
         const std::string tag = propertyTag(src, node);
         static const std::set<std::string> PropertyTags = {"float", "integer", "boolean", "string", "rgb",
                                                            "srgb",  "spectrum", "point", "vector", "transform"};
@@ -365,7 +371,8 @@ private:
             obj->line = src.lineOf(node.offset_debug());
             obj->syntax = src.syntax;
             if (obj->type.empty()) fail(src, node, "missing attribute 'type'");
-            for (const pugi::xml_node& c : node.children()) parseChild(c, *obj, src);
+            for (const pugi::xml_node& c : node.children())
+                parseChild(c, *obj, src, depth + 1);
             if (src.syntax == SceneSyntax::Mitsuba3) translateMitsuba3Plugin(*obj);
             if (!obj->id.empty()) {
                 if (ids_.count(obj->id)) fail(src, node, "id '" + obj->id + "' is already defined");

@@ -36,6 +36,9 @@ check "lt-error measures the reconstructed snapshots" \
 "$bin/lt-gradient" "$scene" --spp 100000 -o "$tmp/int.lts" -q & pid=$!
 sleep 2; kill -INT $pid; wait $pid; code=$?
 check "Ctrl-C: exit code 130, a complete file" '[ $code -eq 130 ] && [ "$(tail -c 16 "$tmp/int.lts" | head -c 4)" = "END!" ]'
+"$bin/lt-gradient" "$scene" --spp 100000 -o "$tmp/term.lts" -q & pid=$!
+sleep 2; kill -TERM $pid; wait $pid; code=$?
+check "SIGTERM: exit code 143, a complete file" '[ $code -eq 143 ] && [ "$(tail -c 16 "$tmp/term.lts" | head -c 4)" = "END!" ]'
 
 out=$("$bin/lt-gradient" "$scene" --method gpt --tile 4 -o "$tmp/x.lts" 2>&1); code=$?
 check "--tile with gpt: refused in one line" '[ $code -ne 0 ] && [ "$(echo "$out" | wc -l)" -eq 1 ] && echo "$out" | grep -q gdpr'

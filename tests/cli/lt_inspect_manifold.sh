@@ -13,7 +13,7 @@ check "a render with paths to inspect" '[ -s "$tmp/a.ltp" ]'
 "$bin/lt-inspect" "$tmp/a.ltp" --manifold --limit 3 > "$tmp/m.txt" 2>&1; code=$?
 check "--manifold: exit 0" '[ $code -eq 0 ]'
 check "--manifold: chains listed with G and walk outcomes" 'grep -Eq "^  chain vertices [0-9]+\.\.[0-9]+: G = [0-9.e+-]+, walk of the (eye|light) end to itself: converged in [0-9]+" "$tmp/m.txt"'
-check "--manifold: summary line" 'grep -Eq "^paths 200, with specular chains [1-9][0-9]*, chains [1-9][0-9]* \(rebuilt [1-9][0-9]*\)" "$tmp/m.txt"'
+check "--manifold: summary line" 'grep -Eq "^paths 200, with specular chains [1-9][0-9]*, chains [1-9][0-9]* \(rebuilt [1-9][0-9]*, with an end to walk [1-9][0-9]*\), walks to themselves converged [1-9][0-9]*/[1-9][0-9]*" "$tmp/m.txt"'
 # Analytic spheres: nearly every walk to a nearby point converges (ME reports 92-98 %).
 check "--manifold: walk statistics, most walks converge" 'awk "/^  converged/ { gsub(/[()%]/, \"\"); exit !(\$3 >= 80) }" "$tmp/m.txt"'
 check "--manifold: iterations and chain lengths" 'grep -Eq "^  iterations \(converged\) +mean [0-9.]+, max [0-9]+; per walk [0-9.]+$" "$tmp/m.txt" && grep -Eq "^  chain lengths \(vertices\) +[0-9]+: [0-9]+" "$tmp/m.txt"'

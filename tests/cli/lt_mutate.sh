@@ -47,6 +47,9 @@ check "snapshots: lt-error lists three of them" '[ "$(echo "$table" | grep -c SN
 sleep 2; kill -INT $pid; wait $pid; code=$?
 check "Ctrl-C: exit code 130" '[ $code -eq 130 ]'
 check "Ctrl-C: a complete file with the work done" '[ "$(tail -c 16 "$tmp/int.lts" | head -c 4)" = "END!" ] && chunks "$tmp/int.lts" | grep -q "^BUFR"'
+"$bin/lt-mutate" "$scene" --mutations 1000000000 --chains 8 --startup-samples 1000 -o "$tmp/term.lts" -q & pid=$!
+sleep 2; kill -TERM $pid; wait $pid; code=$?
+check "SIGTERM: exit code 143, a complete file" '[ $code -eq 143 ] && [ "$(tail -c 16 "$tmp/term.lts" | head -c 4)" = "END!" ]'
 
 out=$("$bin/lt-mutate" "$scene" -o "$tmp/x.lts" 2>&1); code=$?
 check "no length given: one error line" '[ $code -ne 0 ] && [ "$(echo "$out" | wc -l)" -eq 1 ]'

@@ -38,6 +38,13 @@ sleep 2; kill -INT $pid; wait $pid; code=$?
 check "Ctrl-C: exit code 130" '[ $code -eq 130 ]'
 check "Ctrl-C: a complete file with the work done" '[ "$(tail -c 16 "$tmp/int.lts" | head -c 4)" = "END!" ] && chunks "$tmp/int.lts" | grep -q "^BUFR"'
 check "Ctrl-C: no temporary file left" '! ls "$tmp" | grep -q partial'
+"$bin/lt-seed" "$tmp/box.xml" --spp 100000 -o "$tmp/term.lts" -q & pid=$!
+sleep 2; kill -TERM $pid; wait $pid; code=$?
+check "SIGTERM: exit code 143, a complete file" '[ $code -eq 143 ] && [ "$(tail -c 16 "$tmp/term.lts" | head -c 4)" = "END!" ]'
+
+out=$("$bin/lt-seed" "$tmp/box.xml" --resolution 200000x200000 -o "$tmp/huge.lts" 2>&1); code=$?
+check "a film larger than memory: refused before allocating, one line, no output" \
+  '[ $code -ne 0 ] && [ "$(echo "$out" | wc -l)" -eq 1 ] && echo "$out" | grep -q "200000x200000.*GiB of memory" && [ ! -e "$tmp/huge.lts" ]'
 
 out=$("$bin/lt-seed" "$tmp/nope.xml" -o "$tmp/x.lts" 2>&1); code=$?
 check "missing scene: non-zero exit, one line" '[ $code -ne 0 ] && [ "$(echo "$out" | wc -l)" -eq 1 ] && echo "$out" | grep -q "nope.xml"'

@@ -67,7 +67,7 @@ void CausticPerturbation::propose(const MarkovPath& x, Pcg32& rng, Proposal& out
     Ray ray;
     if (start.infinite) {
         const Frame f = Frame::fromNormal(dir);
-        const Vec3 through = x.v[1].p() + (f.s * std::cos(phi) + f.t * std::sin(phi)) * step;
+        const Vec3 through = x.v[size_t(l) + 1].p() + (f.s * std::cos(phi) + f.t * std::sin(phi)) * step;
         ray = Ray{scene_.sceneDisk().beyond(through, -dir), dir};
     } else {
         ray = rayFrom(start, rotateDirection(dir, step, phi));
@@ -75,7 +75,7 @@ void CausticPerturbation::propose(const MarkovPath& x, Pcg32& rng, Proposal& out
     const double pdfStep = stepDensity(x, step);
     // 2. Through the chain to x_{k-1}' (step 3), then to the camera: evaluatePath recomputes the raster.
     out.y = x;
-    if (start.infinite) out.y.v[0].si.p = ray.o; // where its ray now starts (path/vertex.h environmentVertex)
+    if (start.infinite) out.y.v[size_t(l)].si.p = ray.o; // where its ray now starts (path/vertex.h environmentVertex)
     double sampled = 1;
     if (const auto why = followChain(scene_, x.v, out.y.v, l, k - 1, ray, pdfStep, Transport::Importance, sampled)) {
         out.failed = why;

@@ -97,8 +97,9 @@ std::optional<ManifoldPerturbation::Stages> ManifoldPerturbation::chooseStages(c
     const int k = x.edges();
     if (nonSpecularCount(x) < 3) throw Error("manifold perturbation proposed for a path it is not suitable for");
     // x_a and the direction: with 3 non-specular vertices the camera's step toward the light always
-    // has its stages, so the loop ends. Whether stages exist depends only on the delta flags, which the
-    // perturbation keeps: the probability of (a, step) is the same at both states.
+    // has its stages, so the loop ends. Whether stages exist depends only on the delta flags and on whether
+    // the light is at infinity, which the perturbation keeps: the probability of (a, step) is the same at
+    // both states.
     int a = k, step = -1;
     if (!(rng.nextDouble() < 0.25)) {
         std::vector<int> candidates;
@@ -295,7 +296,7 @@ std::optional<RejectCause> ManifoldPerturbation::followHeldChain(const MarkovPat
         m->eta = old.eta;
         m->offset = old.offset;
         const auto out =
-            scatterHeld(*m, v.directionTo(y.v[size_t(i - step)]), (*chain)[size_t(j) - 1].p - old.p, old.ng);
+            scatterHeld(*m, v.directionTo(y.v[size_t(i - step)]), (*chain)[size_t(j) - 1].seenFrom(old.p), old.ng);
         if (std::holds_alternative<WalkFailure>(out)) return RejectCause::ConfigurationChanged;
         ray = spawnRay(v.si.endpoint(), std::get<Vec3>(out));
     }

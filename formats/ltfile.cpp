@@ -22,6 +22,7 @@
 #include <type_traits>
 
 #include "math/error.h"
+#include "math/temp_output.h"
 
 namespace lt::file {
 namespace {
@@ -462,9 +463,11 @@ Writer::Writer(const std::string& path, FileKind kind, const nlohmann::json& inf
     if (path == "-") {
         w.fd = STDOUT_FILENO;
     } else {
-        w.tempPath = path + ".partial-" + std::to_string(::getpid());
+        removeStaleTemporaries(path);
+        w.tempPath = temporaryName(path);
         w.fd = ::open(w.tempPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
         if (w.fd < 0) w.fail("cannot create temporary file " + w.tempPath, errno);
+        lockAsWriting(w.fd);
     }
     std::array<unsigned char, kFileHeaderSize> header;
     std::memcpy(header.data(), kMagic.data(), 4);

@@ -451,6 +451,15 @@ namespace {
 // patch's side, 45 degrees down). Its light vertex is one direction: the bins are the glossy cells alone
 // (binOf's light half from the glossy vertex by Everywhere, whose a() is negative over the patch).
 const Vec3 SunTravel{InvSqrt2, 0, -InvSqrt2};
+
+// A directional light of irradiance 1 travelling along `travel`, as a scene element.
+std::string sunEmitter(const Vec3& travel) {
+    std::ostringstream sun;
+    sun.precision(17);
+    sun << R"(<emitter type="directional"><vector name="direction" x=")" << travel.x << R"(" y=")" << travel.y
+        << R"(" z=")" << travel.z << R"("/><rgb name="irradiance" value="1"/></emitter>)";
+    return sun.str();
+}
 const Patch Everywhere{{10, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, 1};
 
 // Every point x1 of a Fine x Fine midpoint grid over the glossy patch, with the direction toward the eye in
@@ -481,11 +490,7 @@ std::vector<double> tabulateSun(const Bsdf& bsdf) {
 
 TEST_CASE("path-space chains under a directional light visit a tiny path space in proportion to f*", "[mcmc]") {
     test::TempDir dir;
-    std::ostringstream sun;
-    sun.precision(17);
-    sun << R"(<emitter type="directional"><vector name="direction" x=")" << SunTravel.x << R"(" y=")" << SunTravel.y
-        << R"(" z=")" << SunTravel.z << R"("/><rgb name="irradiance" value="1"/></emitter>)";
-    const auto scene = loadScene(tinyScene(dir, {Glossy.facet()}, sun.str()));
+    const auto scene = loadScene(tinyScene(dir, {Glossy.facet()}, sunEmitter(SunTravel)));
     const std::vector<double> expected = tabulateSun(*scene->bsdfs[size_t(scene->shapes[0].bsdf)].bsdf);
     // The bidirectional mutation re-samples the glossy vertex on the scene's disk along the direction (Veach's
     // perturbations join to the light vertex, which a directional light's is not: they leave these paths).
@@ -757,11 +762,7 @@ TEST_CASE("path-space chains of a sun caustic through a mirror visit a tiny path
     const MirrorCase& mc = MirrorCases[0];
     REQUIRE(mc.caustic);
     test::TempDir dir;
-    std::ostringstream sun;
-    sun.precision(17);
-    sun << R"(<emitter type="directional"><vector name="direction" x=")" << SunUp.x << R"(" y=")" << SunUp.y
-        << R"(" z=")" << SunUp.z << R"("/><rgb name="irradiance" value="1"/></emitter>)";
-    const auto scene = loadScene(mirrorScene(dir, mc, sun.str()));
+    const auto scene = loadScene(mirrorScene(dir, mc, sunEmitter(SunUp)));
     const std::vector<double> expected = tabulateSunMirror(mc);
     const auto [lo, hi] = std::minmax_element(expected.begin(), expected.end());
     INFO("bin probabilities from " << *lo << " to " << *hi);
@@ -824,15 +825,12 @@ TEST_CASE("path-space chains of a sun caustic through a mirror sphere visit a ti
     // (manifold_test.cpp) fail on it.
     const MirrorCase& mc = MirrorCases[0];
     test::TempDir dir;
-    std::ostringstream sun, sphere;
-    sun.precision(17);
+    std::ostringstream sphere;
     sphere.precision(17);
-    sun << R"(<emitter type="directional"><vector name="direction" x=")" << SunUp.x << R"(" y=")" << SunUp.y
-        << R"(" z=")" << SunUp.z << R"("/><rgb name="irradiance" value="1"/></emitter>)";
     sphere << R"(<shape type="sphere"><point name="center" x=")" << SphereCentre.x << R"(" y=")" << SphereCentre.y
            << R"(" z=")" << SphereCentre.z << R"("/><float name="radius" value=")" << SphereRadius
            << R"("/><bsdf type="conductor"><string name="material" value="none"/></bsdf></shape>)";
-    const auto scene = loadScene(mirrorScene(dir, mc, sun.str(), sphere.str()));
+    const auto scene = loadScene(mirrorScene(dir, mc, sunEmitter(SunUp), sphere.str()));
     // The camera sees the patch and not the sphere.
     CHECK_FALSE(scene->camera.rasterPosition(normalize(SphereCentre - mc.eye)));
     const std::vector<double> expected = tabulateSunSphere(mc);

@@ -131,6 +131,7 @@ int main(int argc, char** argv) {
         if (!dumpPaths.empty() && space != "path") throw lt::Error("--dump-paths needs --space path");
         if (dumpPaths.empty() != (dumpEvery == 0)) throw lt::Error("--dump-paths and --dump-every go together");
         if (dumpPaths == "-" && out == "-") throw lt::Error("only one of -o and --dump-paths can be stdout");
+        lt::requireChainMemory(chains); // before the scene and the start-up, which keeps 4 seeds per chain
         if (space != "path" && app.count("--strategies") && strategies != "auto")
             throw lt::Error("--strategies selects path-space mutations; --space " + space +
                             " has its own (large and small steps, --large-step)");
@@ -282,7 +283,7 @@ int main(int argc, char** argv) {
             if (seeds.paths.empty()) {
                 // No seed file: a BDPT start-up of our own, as lt-seed --paths would make it.
                 progress.update(-1, "seeding with BDPT");
-                seeds = lt::seedWithBdpt(*scene, ps.paths, startupSamples, size_t(std::max(4 * chains, 1024)),
+                seeds = lt::seedWithBdpt(*scene, ps.paths, startupSamples, std::max<size_t>(4 * size_t(chains), 1024),
                                          seed ^ 0x5eedULL, threads, &lt::tool::stopRequested());
                 if (!quiet)
                     std::cerr << "lt-mutate: seeded with BDPT (" << startupSamples << " samples): b = " << seeds.b.b()

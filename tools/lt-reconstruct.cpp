@@ -9,6 +9,7 @@
 #include <variant>
 
 #include "common/info.h"
+#include "common/interrupt.h"
 #include "common/progress.h"
 #include "common/tool.h"
 #include "formats/ltfile.h"
@@ -155,6 +156,7 @@ int main(int argc, char** argv) {
                                                   {"threads", settings.threads}},
                                                  nullptr);
         uint32_t width = 0, height = 0;
+        bool cut = false; // a signal stopped the stream early
         if (!input.empty() && (input == "-" || !lt::isExrFile(input)) && !isExrName(output)) {
             // An lt buffer file into an lt buffer file: streamed, every snapshot reconstructed on the way.
             lt::file::Reader reader(input, lt::file::FileKind::Buffer);
@@ -163,7 +165,15 @@ int main(int argc, char** argv) {
             lt::file::Writer writer(output, lt::file::FileKind::Buffer, info);
             std::optional<lt::file::Buffer> last, lastSnapshot;
             size_t snapshots = 0;
+            // Ctrl-C or SIGTERM while the stream comes in: the solve under way finishes, the stream is left
+            // (its producer gets a broken pipe), the newest buffer read is reconstructed and the file is
+            // complete (exit 130 or 143). A single image has nothing to cut: a signal kills as usual.
+            lt::tool::installInterruptHandler();
             for (;;) {
+                if (lt::tool::stopRequested()) {
+                    cut = true;
+                    break;
+                }
                 lt::file::Chunk chunk = reader.next();
                 if (std::holds_alternative<lt::file::End>(chunk)) break;
                 if (auto* b = std::get_if<lt::file::Buffer>(&chunk)) last = std::move(*b);
@@ -218,6 +228,9 @@ int main(int argc, char** argv) {
             }
         }
         progress.finish();
+        if (cut && !quiet)
+            std::cerr
+                << "lt-reconstruct: interrupted: the input's rest was not read; reconstructed its newest buffer\n";
         if (!quiet) {
             std::ostringstream residual; // the accuracy of Eigen CG or DCT, which measure it
             if (stats.solverUsed == lt::PoissonSolver::EigenCg || stats.solverUsed == lt::PoissonSolver::Cosine)
@@ -230,6 +243,6 @@ int main(int argc, char** argv) {
                       << stats.finalCost << "; " << stats.seconds << " s; wrote "
                       << (output == "-" ? std::string("<stdout>") : output) << '\n';
         }
-        return 0;
+        return cut ? lt::tool::interruptedExitCode() : 0;
     });
 }

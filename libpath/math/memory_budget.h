@@ -9,7 +9,8 @@
 namespace lt {
 
 // Bytes of memory available to a new allocation: MemAvailable of /proc/meminfo (free memory plus what the
-// kernel can reclaim), or the free physical pages where that file is missing; 0 when neither is known.
+// kernel can reclaim), or the free physical pages where that file is missing, and no more than a cgroup v2
+// memory limit leaves (a container's); 0 when none is known. Swap is not counted.
 [[nodiscard]] uint64_t availableMemory();
 
 // Throws lt::Error "WHAT needs X GiB of memory, more than the Y GiB available" when `bytes` exceeds the

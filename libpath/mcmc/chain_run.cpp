@@ -3,13 +3,21 @@
 #include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/task_arena.h>
 
+#include "math/memory_budget.h"
 #include "scene/accel.h"
 
 namespace lt {
 
+void requireChainMemory(int chains) {
+    constexpr double MinBytesPerChain = 16 << 10;
+    requireMemory(double(chains) * MinBytesPerChain, "a run of " + std::to_string(chains) + " chains");
+}
+
 ChainRunner::ChainRunner(const ChainRunSettings& run, SampleFilm& film, const RunProgressCallback& progress,
                          const std::atomic<bool>* stop, const RunSnapshotCallback& snapshot)
-    : run_(run), film_(film), progress_(progress), stop_(stop), snapshot_(snapshot), clock_(run.start) {}
+    : run_(run), film_(film), progress_(progress), stop_(stop), snapshot_(snapshot), clock_(run.start) {
+    requireChainMemory(run.chains);
+}
 
 void ChainRunner::report(const char* phase, double fraction, uint64_t mutations) const {
     if (progress_) progress_(clock_.progress(phase, fraction, mutations, run_.mutations));

@@ -74,6 +74,11 @@ public:
     NormalizationEstimate normalization;
 };
 
+// Throws lt::Error when `chains` chains cannot fit in the memory available (what one chain holds at the
+// least: its state and proposal with their vertices, a round's splats): the one check of the chain count,
+// for the tools before their start-up and for ChainRunner.
+void requireChainMemory(int chains);
+
 // The clock, progress and snapshots of a run, from its start (start-up included) to its end.
 class ChainRunner {
 public:

@@ -51,6 +51,10 @@ check "Ctrl-C: a complete file with the work done" '[ "$(tail -c 16 "$tmp/int.lt
 sleep 2; kill -TERM $pid; wait $pid; code=$?
 check "SIGTERM: exit code 143, a complete file" '[ $code -eq 143 ] && [ "$(tail -c 16 "$tmp/term.lts" | head -c 4)" = "END!" ]'
 
+out=$("$bin/lt-mutate" "$scene" --chains 2000000000 --mutations 10 --startup-samples 1000 -o "$tmp/many.lts" -q 2>&1); code=$?
+check "more chains than memory holds: one error line naming them, no output" \
+  '[ $code -ne 0 ] && [ "$(echo "$out" | wc -l)" -eq 1 ] && echo "$out" | grep -q "a run of 2000000000 chains needs .* GiB of memory" && [ ! -e "$tmp/many.lts" ]'
+
 out=$("$bin/lt-mutate" "$scene" -o "$tmp/x.lts" 2>&1); code=$?
 check "no length given: one error line" '[ $code -ne 0 ] && [ "$(echo "$out" | wc -l)" -eq 1 ]'
 out=$("$bin/lt-mutate" "$scene" --time 1 --strategies bidirectional,portl -o "$tmp/x.lts" 2>&1); code=$?

@@ -109,4 +109,12 @@ check "--help explains the conventions" '"$bin/lt-reconstruct" --help | grep -q 
   "$bin/lt-reconstruct" --help | grep -q "enters the L2 objective squared" &&
   "$bin/lt-reconstruct" --help | grep -q "eigen-cg" && "$bin/lt-reconstruct" --help | grep -q "dct"'
 
+# SIGTERM while snapshots stream in: the stream is left after the snapshot under way, its newest buffer reconstructed.
+"$bin/lt-gradient" "$src/tests/cli/tiny_box.xml" --method gpt --time 4 --snapshots 0.25,0.5,0.75,1,1.5,2,2.5,3,3.5 \
+  -o - -q | "$bin/lt-reconstruct" - -o term.lts -q & pid=$!
+sleep 2; kill -TERM $pid; wait $pid; code=$?
+check "SIGTERM: exit code 143, a complete file, later snapshots left out" \
+  '[ $code -eq 143 ] && [ "$(tail -c 16 term.lts | head -c 4)" = "END!" ] && chunks term.lts | grep -q "^BUFR" &&
+   n=$(chunks term.lts | grep -c "^SNAP") && [ "$n" -ge 1 ] && [ "$n" -lt 9 ]'
+
 exit $fail

@@ -42,6 +42,17 @@ check "Ctrl-C: no temporary file left" '! ls "$tmp" | grep -q partial'
 sleep 2; kill -TERM $pid; wait $pid; code=$?
 check "SIGTERM: exit code 143, a complete file" '[ $code -eq 143 ] && [ "$(tail -c 16 "$tmp/term.lts" | head -c 4)" = "END!" ]'
 
+"$bin/lt-seed" "$tmp/box.xml" --spp 100000 -o "$tmp/killed.lts" -q & pid=$!
+sleep 2; kill -KILL $pid; wait $pid
+check "SIGKILL: nothing under the final name, the temporary file named by its process" \
+  '[ ! -e "$tmp/killed.lts" ] && [ -e "$tmp/killed.lts.partial-$pid" ]'
+touch "$tmp/killed.lts.partial-$$" "$tmp/killed.lts.partial-12ab"
+"$bin/lt-seed" "$tmp/box.xml" --spp 1 -o "$tmp/killed.lts" -q
+check "the next run removes a killed run's temporary file, not a running process's nor another name" \
+  '[ -e "$tmp/killed.lts" ] && [ ! -e "$tmp/killed.lts.partial-$pid" ] && [ -e "$tmp/killed.lts.partial-$$" ] &&
+   [ -e "$tmp/killed.lts.partial-12ab" ]'
+rm -f "$tmp/killed.lts.partial-$$" "$tmp/killed.lts.partial-12ab"
+
 out=$("$bin/lt-seed" "$tmp/box.xml" --resolution 200000x200000 -o "$tmp/huge.lts" 2>&1); code=$?
 check "a film larger than memory: refused before allocating, one line, no output" \
   '[ $code -ne 0 ] && [ "$(echo "$out" | wc -l)" -eq 1 ] && echo "$out" | grep -q "200000x200000.*GiB of memory" && [ ! -e "$tmp/huge.lts" ]'

@@ -20,6 +20,7 @@
 #include <system_error>
 
 #include "math/error.h"
+#include "math/memory_budget.h"
 #include "scene/mesh.h"
 
 namespace lt {
@@ -219,6 +220,12 @@ TriangleMesh loadSerialized(const std::string &filename, int shapeIndex, MeshLoa
     // Mitsuba switches to u64 indices beyond 0xFFFFFFFF vertices; our meshes index with 32 bits.
     if (vertexCount > 0xFFFFFFFFull)
         throw Error(where + ": " + std::to_string(vertexCount) + " vertices, more than 32-bit indices can address");
+    // Within the ratio a large file can still declare more than memory holds: the reals as read and as
+    // kept (floats), the indices, and the scene's own copy of the mesh (the acceleration structure).
+    requireMemory(
+        2 * (double(vertexCount) * double(realsPerVertex) * double(realSize + 4) + double(triangleCount) * 12),
+        where + ": a mesh of " + std::to_string(vertexCount) + " vertices and " + std::to_string(triangleCount) +
+            " triangles");
 
     TriangleMesh mesh;
     const std::vector<float> positions = z.readReals(vertexCount, 3, doublePrecision);

@@ -50,30 +50,7 @@ std::string errnoText(int err) { return std::generic_category().message(err); }
 
 // INFO is a flat object with a few nested levels; JSON nested thousands of levels deep is a damaged or
 // hostile file, and copying, printing or freeing such a value recurses once per level (stack overflow).
-constexpr size_t kMaxInfoNesting = 64;
-
-// The deepest nesting of arrays and objects in JSON text: brackets outside strings.
-size_t jsonNesting(std::string_view text) {
-    size_t depth = 0, deepest = 0;
-    bool inString = false, escaped = false;
-    for (const char c : text) {
-        if (inString) {
-            if (escaped)
-                escaped = false;
-            else if (c == '\\')
-                escaped = true;
-            else if (c == '"')
-                inString = false;
-        } else if (c == '"') {
-            inString = true;
-        } else if (c == '{' || c == '[') {
-            deepest = std::max(deepest, ++depth);
-        } else if ((c == '}' || c == ']') && depth > 0) {
-            --depth;
-        }
-    }
-    return deepest;
-}
+constexpr int kMaxInfoNesting = 64;
 
 const char* kindName(FileKind kind) { return kind == FileKind::Paths ? "paths" : "buffer"; }
 
@@ -680,9 +657,20 @@ struct Reader::Impl {
     void readInfo() {
         const std::optional<std::string> payload = readChunk();
         if (tag != kInfo) chunkError("the first chunk must be INFO");
-        if (jsonNesting(*payload) > kMaxInfoNesting)
-            chunkError("INFO nests deeper than " + std::to_string(kMaxInfoNesting) + " levels");
-        info = nlohmann::json::parse(*payload, nullptr, /*allow_exceptions=*/false);
+        // nlohmann's parser is iterative; its callback sees the depth of every object and array it opens
+        // (0 for the outermost) and discards what is too deep, so no deep value is ever built.
+        bool tooDeep = false;
+        info = nlohmann::json::parse(
+            *payload,
+            [&](int depth, nlohmann::json::parse_event_t event, nlohmann::json&) {
+                if ((event == nlohmann::json::parse_event_t::object_start ||
+                     event == nlohmann::json::parse_event_t::array_start) &&
+                    depth >= kMaxInfoNesting)
+                    tooDeep = true;
+                return !tooDeep;
+            },
+            /*allow_exceptions=*/false);
+        if (tooDeep) chunkError("INFO nests deeper than " + std::to_string(kMaxInfoNesting) + " levels");
         if (info.is_discarded()) chunkError("INFO is not valid JSON");
         if (!info.is_object()) chunkError("INFO is not a JSON object");
     }

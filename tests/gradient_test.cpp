@@ -5,6 +5,7 @@
 // runs (Welch's t), never from observed values.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 
 #include "bsdf/dielectric.h"
@@ -59,6 +60,27 @@ std::string deltaRoom(const test::TempDir& dir) {
     <rgb name="intensity" value="4"/><float name="cutoffAngle" value="25"/></emitter>
   <shape type="sphere"><point name="center" x="-0.6" y="0.85" z="-0.6"/><float name="radius" value="0.08"/>
     <emitter type="area"><rgb name="radiance" value="20"/></emitter></shape>
+</scene>)");
+}
+
+// A diffuse floor in a room of smooth plastic, seen from above, lit by a point light and a small area light:
+// paths from the floor meet plastic that takes its delta coat but samples the lights through its diffuse
+// base (the light ending a reconnection reaches while the path follows the coat).
+std::string plasticRoom(const test::TempDir& dir) {
+    return dir.write("plastic-room.xml", R"(<scene version="0.5.0">
+  <integrator type="path"><integer name="maxDepth" value="4"/></integrator>
+  <sensor type="perspective"><float name="fov" value="60"/>
+    <transform name="toWorld"><lookat origin="0,0.6,0.2" target="0,-1,0" up="0,0,-1"/></transform>
+    <film type="hdrfilm"><integer name="width" value="32"/><integer name="height" value="32"/><rfilter type="box"/></film>
+  </sensor>
+  <shape type="cube"><boolean name="flipNormals" value="true"/>
+    <bsdf type="plastic"><rgb name="diffuseReflectance" value="0.5, 0.4, 0.3"/></bsdf></shape>
+  <shape type="rectangle">
+    <transform name="toWorld"><scale value="0.99"/><rotate x="1" angle="-90"/><translate y="-0.98"/></transform>
+    <bsdf type="diffuse"><rgb name="reflectance" value="0.6"/></bsdf></shape>
+  <emitter type="point"><point name="position" x="0.3" y="0.5" z="0.2"/><rgb name="intensity" value="2"/></emitter>
+  <shape type="sphere"><point name="center" x="-0.5" y="0.7" z="-0.4"/><float name="radius" value="0.1"/>
+    <emitter type="area"><rgb name="radiance" value="10"/></emitter></shape>
 </scene>)");
 }
 
@@ -152,7 +174,8 @@ TEST_CASE("a base path shifted onto its own primary hit is itself", "[gradient]"
                 traceBasePath(*scene, gs.paths, gs.shiftThreshold, raster, primaryVertex(*scene, raster), sampler);
             const auto own = baseEndingTerms(*scene, base);
             std::vector<EndingTerm> shifted;
-            (void)shiftBasePath(*scene, base, primaryVertex(*scene, raster), gs.shiftThreshold, shifted);
+            (void)shiftBasePath(*scene, base, primaryVertex(*scene, raster), gs.shiftThreshold, shifted,
+                                EarlyOut::Never);
             REQUIRE(shifted.size() == own.size());
             for (size_t e = 0; e < own.size(); ++e) {
                 if (own[e].density == 0) continue;
@@ -174,6 +197,57 @@ TEST_CASE("a base path shifted onto its own primary hit is itself", "[gradient]"
     }
 }
 
+TEST_CASE("the early out leaves every pixel's share of a base path as it was, bit for bit", "[gradient]") {
+    // Over sets of 3 x 3 pixels (path reusing's tiles), each base path's shares with the early out taken and
+    // with every shift followed to its end. door-ajar is lit through a gap: most tails carry nothing.
+    test::TempDir dir;
+    for (const char* name : {"door-ajar", "delta-room", "veach-mis"}) {
+        CAPTURE(name);
+        const auto scene = loadScene(std::string(name) == "delta-room" ? deltaRoom(dir) : test::shippedScene(name));
+        scene->camera = scene->camera.withResolution(64, 48);
+        const GradientSettings gs = settingsFor(*scene);
+        Pcg32 rng(11, 2);
+        int earlyOuts = 0, carrying = 0;
+        for (int n = 0; n < 400; ++n) {
+            const Vec2 corner(double(1 + rng.nextUInt() % 60), double(1 + rng.nextUInt() % 44)), offset(rng.nextDouble(), rng.nextDouble());
+            std::vector<std::optional<BaseVertex>> primary;
+            for (int j = 0; j < 9; ++j)
+                primary.push_back(primaryVertex(*scene, corner + Vec2(double(j % 3), double(j / 3)) + offset));
+            const size_t k = rng.nextUInt() % 9;
+            IndependentSampler sampler(uint64_t(n), 4);
+            const BasePath base = traceBasePath(*scene, gs.paths, gs.shiftThreshold, corner + Vec2(double(k % 3), double(k / 3)) + offset,
+                                                primary[k], sampler);
+            std::vector<std::vector<EndingTerm>> taken(9), followed(9);
+            for (size_t m = 0; m < 9; ++m) {
+                if (m == k) {
+                    taken[m] = followed[m] = baseEndingTerms(*scene, base);
+                    continue;
+                }
+                earlyOuts += shiftBasePath(*scene, base, primary[m], gs.shiftThreshold, taken[m]).cause ==
+                             ShiftCause::EarlyOut;
+                (void)shiftBasePath(*scene, base, primary[m], gs.shiftThreshold, followed[m], EarlyOut::Never);
+            }
+            std::vector<const std::vector<EndingTerm>*> a, b;
+            for (size_t m = 0; m < 9; ++m) {
+                a.push_back(&taken[m]);
+                b.push_back(&followed[m]);
+            }
+            std::vector<Spectrum> shareTaken(9), shareFollowed(9);
+            REQUIRE(shareOverPixels(a, shareTaken) == shareOverPixels(b, shareFollowed));
+            for (size_t m = 0; m < 9; ++m) {
+                CAPTURE(n, m);
+                carrying += !shareFollowed[m].isBlack();
+                for (int c = 0; c < 3; ++c)
+                    CHECK(shareTaken[m][c] == shareFollowed[m][c]);
+            }
+        }
+        // The test must see the early out taken (delta-room's point lights light most tails: fewer there).
+        CAPTURE(earlyOuts, carrying);
+        CHECK(earlyOuts > 20);
+        CHECK(carrying > 100);
+    }
+}
+
 TEST_CASE("the half-vector copy's Jacobian is the solid-angle ratio of finite differences", "[gradient]") {
     const auto white = std::make_shared<ConstantTexture>(Spectrum(0.8));
     const Diffuse diffuse(DiffuseParams{white});
@@ -188,14 +262,16 @@ TEST_CASE("the half-vector copy's Jacobian is the solid-angle ratio of finite di
         const Bsdf* bsdf;
         Vec3 wiX, woX, wiY; // world; x has normal +z, y a tilted normal
     };
-    const Vec3 grazing = normalize(Vec3(1, 0, 0.09)); // 85 degrees from the normal
+    // 85 degrees from the normal. Each pair (wiX, woX) is one the BSDF samples: its half vector faces both
+    // directions as a microfacet must (a refraction from grazing incidence leaves at about 42 degrees).
+    const Vec3 grazing = normalize(Vec3(1, 0, 0.09));
     const std::vector<Case> cases = {
         {"diffuse", &diffuse, Vec3(0.3, 0.1, 1), Vec3(-0.5, 0.2, 1), Vec3(0.25, 0.15, 1)},
         {"glossy reflection", &conductor, Vec3(0.3, 0.1, 1), Vec3(-0.35, -0.05, 1), Vec3(0.25, 0.2, 1)},
         {"glossy reflection, grazing", &conductor, grazing, Vec3(-1, 0.02, 0.1), Vec3(1, 0.05, 0.12)},
         {"refraction into glass", &glass, Vec3(0.3, 0.1, 1), Vec3(-0.2, -0.05, -1), Vec3(0.25, 0.2, 1)},
         {"refraction out of glass", &glass, Vec3(0.1, 0.05, -1), Vec3(-0.2, -0.1, 1), Vec3(0.12, 0.0, -1)},
-        {"refraction, grazing incidence", &glass, grazing, Vec3(-0.6, 0, -1), Vec3(1, 0.03, 0.1)},
+        {"refraction, grazing incidence", &glass, grazing, Vec3(-0.66, 0.02, -0.75), Vec3(1, 0.03, 0.1)},
     };
     for (const auto& c : cases) {
         CAPTURE(c.name);
@@ -215,6 +291,12 @@ TEST_CASE("the half-vector copy's Jacobian is the solid-angle ratio of finite di
         const double fd = smallSolidAngle(ya->wo, yb->wo, yd->wo) / smallSolidAngle(a, b, d);
         CAPTURE(fd, base->jacobian);
         CHECK(base->jacobian == Approx(fd).epsilon(1e-3));
+        // The inverse shift: copying y's half vector back to x gives x's direction, with the inverse Jacobian
+        // (the shift is a bijection, Kettunen et al. 2015, Sec. 5).
+        const auto back = copyHalfVector(y, y.wi, base->wo, false, x);
+        REQUIRE(back);
+        CHECK(length(back->wo - wo) < 1e-9);
+        CHECK(base->jacobian * back->jacobian == Approx(1).epsilon(1e-9));
     }
     SECTION("a delta lobe copies to the specular direction with Jacobian 1, and fails where it has no solution") {
         const Dielectric smooth(DielectricParams{});
@@ -226,6 +308,15 @@ TEST_CASE("the half-vector copy's Jacobian is the solid-angle ratio of finite di
         CHECK(r->jacobian == 1);
         const Vec3 n = y.si.ng;
         CHECK(length(r->wo - (2 * dot(y.wi, n) * n - y.wi)) < 1e-9);
+        // A smooth refraction copied to y and back, at the tilted normal: the base direction again.
+        const Vec3 into = *refract(x.wi, x.si.ng, 1.5046 / 1.000277);
+        const BaseVertex tilted = vertexAt(smooth, Vec3(0.1, 0, 0), Vec3(0.2, -0.1, 1), Vec3(-0.2, 0.3, 1));
+        const auto there = copyHalfVector(x, x.wi, into, true, tilted);
+        REQUIRE(there);
+        CHECK(dot(there->wo, tilted.si.ng) < 0);
+        const auto back = copyHalfVector(tilted, tilted.wi, there->wo, true, x);
+        REQUIRE(back);
+        CHECK(length(back->wo - into) < 1e-9);
         // From inside the glass at a grazing angle the refraction out has no solution (total internal
         // reflection): the copy of a refraction fails.
         const BaseVertex in = vertexAt(smooth, Vec3(0, 0, 0), Vec3(0, 0, 1), Vec3(0.1, 0, -1));
@@ -351,7 +442,7 @@ TEST_CASE("T-GR-3: G-PT and path reusing are unbiased: primal and gradients agai
                 checkSameMeans(g[size_t(p)], pt[size_t(p)]);
             }
         }
-        for (int tile : {1, 3, 6}) {
+        for (int tile : {1, 3, 6, 10}) {
             INFO("path reusing, tile " << tile);
             GradientSettings t = gs;
             t.tile = tile;
@@ -502,9 +593,12 @@ TEST_CASE("T-GR-2: a path's weights are the same from every pixel that can produ
     // the shifts must compose: the weights computed from base path x in pixel k and from its shift y in pixel
     // m must agree, technique by technique. Diffuse scene: every shift reconnects at the primary hit.
     test::TempDir dir;
-    for (const char* name : {"cornell-box", "delta-room"}) {
+    for (const char* name : {"cornell-box", "delta-room", "plastic-room"}) {
         CAPTURE(name);
-        const auto scene = loadScene(std::string(name) == "delta-room" ? deltaRoom(dir) : test::shippedScene(name));
+        const std::string file = std::string(name) == "delta-room"     ? deltaRoom(dir)
+                                 : std::string(name) == "plastic-room" ? plasticRoom(dir)
+                                                                       : test::shippedScene(name);
+        const auto scene = loadScene(file);
         scene->camera = scene->camera.withResolution(48, 48);
         GradientSettings gs = settingsFor(*scene);
         gs.paths.maxDepth = 4;
@@ -512,7 +606,7 @@ TEST_CASE("T-GR-2: a path's weights are the same from every pixel that can produ
         // Pixels 9 apart: the primary hits lie far apart, so Jacobians are far from 1 and a missing one shows.
         const int size = 4, spacing = 9;
         Pcg32 rng(3, 5);
-        int compared = 0;
+        int compared = 0, joinedLights = 0;
         for (int n = 0; n < 200; ++n) {
             const Vec2 corner(2 + rng.nextUInt() % 16, 2 + rng.nextUInt() % 16),
                 offset(rng.nextDouble(), rng.nextDouble());
@@ -533,7 +627,7 @@ TEST_CASE("T-GR-2: a path's weights are the same from every pixel that can produ
                     if (j == own)
                         terms[j] = baseEndingTerms(*scene, base);
                     else
-                        (void)shiftBasePath(*scene, base, primary[j], gs.shiftThreshold, terms[j]);
+                        (void)shiftBasePath(*scene, base, primary[j], gs.shiftThreshold, terms[j], EarlyOut::Never);
                 }
                 std::vector<std::vector<double>> w(terms[own].size(), std::vector<double>(primary.size(), 0.0));
                 for (size_t e = 0; e < w.size(); ++e) {
@@ -549,16 +643,27 @@ TEST_CASE("T-GR-2: a path's weights are the same from every pixel that can produ
             for (size_t m = 0; m < primary.size(); ++m) {
                 if (m == k || !primary[m]) continue;
                 std::vector<EndingTerm> probe;
-                const ShiftOutcome o = shiftBasePath(*scene, x, primary[m], gs.shiftThreshold, probe);
-                if (o.cause != ShiftCause::Reconnected || o.reconnectDepth != 1) continue;
-                const BasePath y = reconnectedPath(*scene, x, *primary[m]);
+                const ShiftOutcome o = shiftBasePath(*scene, x, primary[m], gs.shiftThreshold, probe, EarlyOut::Never);
+                // x_2 took a delta lobe (a smooth plastic's coat) but has a light sample: the shift's ending 2 is
+                // y_1 -> x_2 -> light by the reconnection, and its path follows x's half vectors on, so a base
+                // path of pixel m that ends at x_2 shifts back onto x's ending 2 (compared alone).
+                const BaseVertex& x2 = x.vertices[1];
+                const bool joinedLight = x.vertices[0].connectable && x2.connectable && x2.scattered && x2.delta() &&
+                                         !probe[2].value.isBlack();
+                if (!joinedLight && (o.cause != ShiftCause::Reconnected || o.reconnectDepth != 1)) continue;
+                BasePath y = reconnectedPath(*scene, x, *primary[m]);
+                if (joinedLight) {
+                    y.vertices.resize(2);
+                    y.vertices[1].scattered = false;
+                    ++joinedLights;
+                }
                 // Only a path pixel m's path tracer could have traced is a base path there (a direction at the
                 // edge of its lobe has a density that underflows).
                 if (!(y.vertices[0].pdf > 1e-9) || y.vertices[0].fCos.isBlack() ||
                     (y.vertices[1].scattered && !(y.vertices[1].pdf > 1e-9)))
                     continue;
                 const auto [wy, ty] = weights(y, m);
-                for (size_t e = 0; e < wx.size(); ++e) {
+                for (size_t e = 0; e < (joinedLight ? 3 : wx.size()); ++e) {
                     // Where the path in pixel m carries light, its weights must agree: to the precision of a
                     // reconnection direction recomputed from float hit points (~1e-3, bsdf/bsdf.h), which moves
                     // densities near grazing by up to a percent.
@@ -571,6 +676,75 @@ TEST_CASE("T-GR-2: a path's weights are the same from every pixel that can produ
                 }
             }
         }
+        CAPTURE(joinedLights);
         CHECK(compared > 100);
+        if (std::string(name) == "plastic-room") CHECK(joinedLights > 20);
+    }
+}
+
+TEST_CASE("the variance planes hold the sample variance of the passes' values", "[gradient]") {
+    // Every pass gives every pixel one value of each plane; the film keeps the squares of the passes' values
+    // (image/film.h). Snapshots after every pass give the same values independently (n mean_n - (n - 1)
+    // mean_(n-1)), so the planes can be checked against the textbook sample variance of those values.
+    test::TempDir dir;
+    const auto scene = loadScene(deltaRoom(dir));
+    scene->camera = scene->camera.withResolution(16, 16);
+    const GradientSettings gs = settingsFor(*scene);
+    GradientSettings tiled = gs;
+    tiled.tile = 3;
+    const GradientPathTracer gpt(*scene, gs);
+    const PathReusing gdpr(*scene, tiled);
+    for (const PixelEstimator* est : {static_cast<const PixelEstimator*>(&gpt), static_cast<const PixelEstimator*>(&gdpr)}) {
+        CAPTURE(est == &gpt ? "G-PT" : "path reusing");
+        const int passes = 6;
+        SampleFilm film(scene->camera, est->planes());
+        RenderSettings rs;
+        rs.spp = passes;
+        rs.threads = 2;
+        rs.snapshots = SnapshotSchedule::parseSamples("1,2,3,4,5,6");
+        std::vector<file::Buffer> snaps;
+        (void)render(*scene, *est, rs, film, {}, nullptr, nullptr,
+                     [&](const RunProgress&, const file::Buffer& b) { snaps.push_back(b); });
+        REQUIRE(snaps.size() == size_t(passes));
+        const file::Buffer last = film.toBuffer();
+        auto channel = [](const file::Buffer& b, const std::string& name) -> const std::vector<float>& {
+            const auto it = std::find(b.channels.begin(), b.channels.end(), name);
+            REQUIRE(it != b.channels.end());
+            return b.planes[size_t(it - b.channels.begin())];
+        };
+        int nonzero = 0;
+        for (const char* plane : {"primal", "dx", "dy", "direct"}) {
+            CAPTURE(plane);
+            const std::vector<float>& var = channel(last, std::string(plane) + ".var");
+            for (size_t i = 0; i < var.size(); ++i) {
+                // Luminance of the pixel's sum after each pass, from the stored means and counts.
+                std::vector<double> sums(1, 0.0);
+                double scale = 0;
+                for (const auto& b : snaps) {
+                    const double n = b.sampleCounts[i];
+                    REQUIRE(n == double(sums.size()));
+                    double lum = 0, mag = 0;
+                    for (int c = 0; c < 3; ++c) {
+                        const double v = n * channel(b, std::string(plane) + "." + "RGB"[c])[i];
+                        lum += v * Spectrum(c == 0, c == 1, c == 2).luminance();
+                        mag += std::abs(v);
+                    }
+                    sums.push_back(lum);
+                    scale = std::max(scale, mag);
+                }
+                double sumX = 0, sumX2 = 0;
+                for (size_t p = 1; p < sums.size(); ++p) {
+                    const double x = sums[p] - sums[p - 1];
+                    sumX += x;
+                    sumX2 += x * x;
+                }
+                const double n = passes, expected = (sumX2 - sumX * sumX / n) / (n - 1);
+                CAPTURE(i, expected, var[i]);
+                // The snapshots store float means: each pass's value is known to ~1e-7 of the sums.
+                CHECK(std::abs(var[i] - expected) <= 1e-5 * (expected + scale * scale) + 1e-30);
+                nonzero += var[i] > 0;
+            }
+        }
+        CHECK(nonzero > 200);
     }
 }

@@ -336,7 +336,12 @@ TEST_CASE("the render loop fills a pixel estimator's further planes, and the fil
     (void)render(*scene, ramp, rs, film, {}, nullptr);
     const file::Buffer b = film.toBuffer();
     CHECK(b.channels ==
-          std::vector<std::string>{"primal.R", "primal.G", "primal.B", "dx.R", "dx.G", "dx.B", "dy.R", "dy.G", "dy.B"});
+          std::vector<std::string>{"primal.R", "primal.G", "primal.B", "dx.R", "dx.G", "dx.B", "dy.R", "dy.G", "dy.B",
+                                   "primal.var", "dx.var", "dy.var"});
+    // Every pass gives every pixel the same values: no variance.
+    for (size_t c = 9; c < 12; ++c)
+        for (const float v : b.planes[c])
+            CHECK(v == Approx(0).margin(1e-9));
     const GradientImage g = gradientImageFromBuffer(b, "ramp");
     for (uint32_t y = 0; y < 6; ++y)
         for (uint32_t x = 0; x < 8; ++x) {

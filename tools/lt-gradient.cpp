@@ -22,7 +22,8 @@ int main(int argc, char** argv) {
                  "rough vertices, half-vector copy through smooth ones). --method gpt shifts every path to its four "
                  "neighbours (gradient-domain path tracing); --method gdpr reuses every path in all pixels of its "
                  "tile (gradient-domain path reusing). Writes the planes primal, dx, dy and direct as lt-reconstruct "
-                 "reads them: lt-gradient S -o - | lt-reconstruct - -o image.exr. Same seed and sample count give a "
+                 "reads them, and per pixel the variance of one pass's value of each (NAME.var, luminance): lt-gradient S -o - | "
+                 "lt-reconstruct - -o image.exr. Same seed and sample count give a "
                  "bit-identical file whatever the thread count; Ctrl-C stops after the current tiles and still "
                  "writes a valid file.",
                  "lt-gradient"};
@@ -42,7 +43,7 @@ int main(int argc, char** argv) {
                    "samples per pixel: base paths per pixel (default: the scene's sampleCount; with --time, an upper "
                    "bound)")
         ->check(CLI::PositiveNumber);
-    app.add_option("--time", timeLimit, "render for this many seconds (whole passes over the image)")
+    app.add_option("--time", timeLimit, "render for this many seconds (at least one pass over the image; gpt ends at the end of a pass, gdpr after the tile under way)")
         ->check(CLI::PositiveNumber);
     app.add_option("--tile", gs.tile,
                    "gdpr: tile size T; every base path is reused by the (T+1) x (T+1) pixels around its tile (default "

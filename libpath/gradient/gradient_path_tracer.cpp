@@ -12,11 +12,9 @@ enum Plane { Dx = 0, Dy = 1, Direct = 2 };
 } // namespace
 
 GradientPathTracer::GradientPathTracer(const Scene& scene, GradientSettings settings)
-    : scene_(scene), settings_(settings) {
+    : scene_(scene), settings_(settings), window_(cropWindow(scene.camera.film())) {
     if (settings_.paths.maxDepth == 0 || settings_.paths.maxDepth < -1)
         throw Error("maxDepth must be -1 (unbounded) or at least 1");
-    const auto& f = scene.camera.film();
-    window_ = {f.cropX, f.cropY, f.cropX + f.cropWidth, f.cropY + f.cropHeight};
 }
 
 Spectrum GradientPathTracer::estimate(const Vec2& raster, SampleGenerator& sampler, PixelSample& out) const {
@@ -31,7 +29,7 @@ Spectrum GradientPathTracer::estimate(const Vec2& raster, SampleGenerator& sampl
     for (const auto& o : offsets) {
         const int nx = out.x + o[0], ny = out.y + o[1];
         std::vector<Spectrum> share(2);
-        if (nx < window_.x0 || nx >= window_.x1 || ny < window_.y0 || ny >= window_.y1) {
+        if (!window_.contains(nx, ny)) {
             if (!shareOverPixels({&own}, share)) {
                 ++out.health.nonFinite;
                 return {};

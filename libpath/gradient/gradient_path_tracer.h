@@ -21,6 +21,7 @@ public:
     [[nodiscard]] Spectrum estimate(const Vec2& raster, SampleGenerator& sampler, PixelSample& out) const override;
     [[nodiscard]] bool tracesLightPaths() const override { return false; }
     [[nodiscard]] std::vector<std::string> planes() const override { return {"dx", "dy", "direct"}; }
+    [[nodiscard]] bool creditsNeighbours() const override { return true; }
     [[nodiscard]] const ShiftStatistics& statistics() const { return stats_; }
 
 private:

@@ -13,8 +13,8 @@ void ShiftStatistics::add(const ShiftOutcome& o) {
 }
 
 file::StatTable ShiftStatistics::table() const {
-    static const char* names[] = {"reconnected", "followed",   "no_primary_hit", "mismatch",
-                                  "occluded",    "refraction", "escaped"};
+    static const char* names[] = {"reconnected", "followed", "no_primary_hit", "mismatch",
+                                  "occluded",    "refraction", "escaped",       "early_out"};
     static_assert(std::size(names) == size_t(ShiftCause::Count));
     std::vector<std::pair<std::string, double>> rows = {{"base_paths", double(basePaths)}, {"shifts", double(shifts)}};
     for (size_t c = 0; c < size_t(ShiftCause::Count); ++c)

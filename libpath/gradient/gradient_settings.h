@@ -29,7 +29,8 @@ struct ShiftStatistics {
 
     void add(const ShiftOutcome& o);
     // STAT table "shift" (one column "value"): base_paths, shifts, one row per cause (reconnected, followed,
-    // no_primary_hit, mismatch, occluded, refraction, escaped), reconnect_depth_1 .. _8 and reconnect_depth_9+,
+    // no_primary_hit, mismatch, occluded, refraction, escaped, early_out), reconnect_depth_1 .. _8 and
+    // reconnect_depth_9+,
     // rr_tested and rr_survived.
     [[nodiscard]] file::StatTable table() const;
 };

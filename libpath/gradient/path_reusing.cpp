@@ -16,14 +16,12 @@ enum Plane { Dx = 0, Dy = 1, Direct = 2 };
 } // namespace
 
 PathReusing::PathReusing(const Scene& scene, GradientSettings settings)
-    : scene_(scene), settings_(settings), filter_(scene.camera.film().filter) {
+    : scene_(scene), settings_(settings), window_(cropWindow(scene.camera.film())), filter_(scene.camera.film().filter) {
     if (settings_.paths.maxDepth == 0 || settings_.paths.maxDepth < -1)
         throw Error("maxDepth must be -1 (unbounded) or at least 1");
     if (settings_.tile < 1) throw Error("the tile size must be at least 1");
     if (!(settings_.rrDelta > 0) || !(settings_.rrMin >= 0 && settings_.rrMin <= 1))
         throw Error("Russian roulette needs delta > 0 and 0 <= q_min <= 1");
-    const auto& f = scene.camera.film();
-    window_ = {f.cropX, f.cropY, f.cropX + f.cropWidth, f.cropY + f.cropHeight};
 }
 
 std::vector<Spectrum> reuseBasePaths(const Scene& scene, double shiftThreshold,

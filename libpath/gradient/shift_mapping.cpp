@@ -231,6 +231,29 @@ struct Shifter {
     double threshold;
     std::vector<EndingTerm>& out;
 
+    // The vertex where a shift may stop early (shift_mapping.h EarlyOut): the first reconnection vertex x_i
+    // when nothing after x_i's light sample can carry light; the path's length otherwise. The same rules as
+    // run() decide where a shift rejoins the base path.
+    [[nodiscard]] size_t darkTailVertex() const {
+        const size_t n = base.vertices.size();
+        size_t i = 0;
+        for (; i < n; ++i) {
+            const BaseVertex& x = base.vertices[i];
+            if (!x.bsdf || !x.scattered) return n;
+            if (!connectableLobe(*x.bsdf, x.si.uv, x.delta(), threshold)) continue;
+            if (x.escaped) break;
+            const BaseVertex& next = base.vertices[i + 1];
+            if (next.connectable && !(next.scattered && next.delta())) break;
+        }
+        for (size_t k = i; k < n; ++k) {
+            const BaseVertex& x = base.vertices[k];
+            if (k > i && x.light.emitter >= 0 && x.light.visible && !x.light.Le.isBlack()) return n;
+            if (!x.scattered) break;
+            if (x.escaped ? !environmentRadiance(scene, x.wo).isBlack() : base.vertices[k + 1].emitter >= 0) return n;
+        }
+        return i;
+    }
+
     // The endings from x_j on for an offset that joined the base path by reaching x_j from direction wi.
     // No ray is traced: visibility is the base path's.
     void tail(size_t j, const Vec3& wi, Prefix p) {
@@ -289,11 +312,12 @@ struct Shifter {
         return j;
     }
 
-    ShiftOutcome run(const std::optional<BaseVertex>& offset) {
+    ShiftOutcome run(const std::optional<BaseVertex>& offset, EarlyOut earlyOut) {
         const size_t n = base.vertices.size();
         out.assign(2 * n, {});
         if (n == 0) return {ShiftCause::Followed};
         if (!offset) return {ShiftCause::NoPrimaryHit};
+        const size_t stop = earlyOut == EarlyOut::Take ? darkTailVertex() : n;
         BaseVertex y = *offset;
         Prefix p;
         size_t lightTaken = n; // a light ending already shifted by a reconnection one vertex earlier
@@ -304,6 +328,7 @@ struct Shifter {
             if (!y.bsdf) return {ShiftCause::Mismatch};
             if (x.light.emitter >= 0 && i != lightTaken) shiftLightSample(x, i, y, p);
             if (!x.scattered) return {ShiftCause::Followed};
+            if (i == stop) return {ShiftCause::EarlyOut};
             const BaseVertex* next = x.escaped ? nullptr : &base.vertices[i + 1];
 
             // Ending 2i + 1 through a non-delta lobe ends by a reconnection, as the light sample does.
@@ -376,8 +401,8 @@ std::vector<EndingTerm> baseEndingTerms(const Scene& scene, const BasePath& base
 }
 
 ShiftOutcome shiftBasePath(const Scene& scene, const BasePath& base, const std::optional<BaseVertex>& offset,
-                           double shiftThreshold, std::vector<EndingTerm>& out) {
-    return Shifter{scene, base, shiftThreshold, out}.run(offset);
+                           double shiftThreshold, std::vector<EndingTerm>& out, EarlyOut earlyOut) {
+    return Shifter{scene, base, shiftThreshold, out}.run(offset, earlyOut);
 }
 
 bool shareOverPixels(const std::vector<const std::vector<EndingTerm>*>& terms, std::vector<Spectrum>& share) {

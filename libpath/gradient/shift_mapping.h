@@ -50,6 +50,7 @@ enum class ShiftCause : int {
     Occluded,     // the reconnection's shadow ray was blocked
     Refraction,   // total internal reflection, or the half-vector copy left the lobe's hemisphere
     Escaped,      // the offset's ray left the scene (or hit something) where the base path's did not
+    EarlyOut,     // stopped where it would rejoin a base path that carries no light after that vertex
     Count
 };
 
@@ -61,12 +62,24 @@ struct ShiftOutcome {
 // The terms of a base path for its own pixel (value: the path tracer's estimate of each ending).
 [[nodiscard]] std::vector<EndingTerm> baseEndingTerms(const Scene& scene, const BasePath& base);
 
+// [GDPR] Sec. 3.3's early out. Every shift that gets past the base path's first reconnection vertex x_i (x_i
+// connectable, and x_{i+1} joinable or none) rejoins the base path there and shares its tail; the endings from
+// x_i's BSDF sample on carry light only through that tail: an emitter at x_{i+1} or beyond (its radiance toward
+// the offset may differ: any emitter counts), the environment along x_i's escape direction (the offset's
+// too), the base's light samples after x_i with their visibility. When none can, the shift stops at x_i after
+// its light sample, and the rest of its endings are zero. This is exact: an ending that carries light in no
+// pixel of the set adds nothing, whatever its densities (shareOverPixels).
+enum class EarlyOut {
+    Take,
+    Never // follow every shift to its end (the tests compare both)
+};
+
 // Shifts `base` onto the offset primary vertex `offset` (another pixel's primary hit, or nothing when that
 // pixel's camera ray escapes) and writes its terms, one per ending of `base`, into `out`: zeros for the
 // endings the shift cannot reach. An ending whose path one technique cannot produce (a blocked reconnection
 // cannot be a BSDF sample's) counts only the techniques that can.
 ShiftOutcome shiftBasePath(const Scene& scene, const BasePath& base, const std::optional<BaseVertex>& offset,
-                           double shiftThreshold, std::vector<EndingTerm>& out);
+                           double shiftThreshold, std::vector<EndingTerm>& out, EarlyOut earlyOut = EarlyOut::Take);
 
 // The Jacobian of a reconnection to surface point z (geometric normal n): the solid
 // angle at `offset` over the solid angle at `base` of the directions toward the area around z, |cos theta'| /

@@ -4,24 +4,27 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "math/memory_budget.h"
 
 namespace lt {
 
 SampleFilm::SampleFilm(const PerspectiveCamera& camera, std::vector<std::string> planes)
-    : filter_(camera.film().filter), planeNames_(std::move(planes)) {
-    const auto& f = camera.film();
-    window_ = {f.cropX, f.cropY, f.cropX + f.cropWidth, f.cropY + f.cropHeight};
-    // Sums and splats in double, the sample counts, and the developed float image a tool writes.
-    const double bytesPerPixel = double(3 * (2 + planeNames_.size())) * sizeof(double) + sizeof(uint32_t) +
-                                 double(3 * (1 + planeNames_.size())) * sizeof(float);
+    : window_(cropWindow(camera.film())), filter_(camera.film().filter), planeNames_(std::move(planes)) {
+    // Sums and splats in double, the pass statistics, the sample counts, and the developed float image a
+    // tool writes.
+    const size_t passPlanes = planeNames_.empty() ? 0 : 1 + planeNames_.size();
+    const double bytesPerPixel = double(3 * (2 + planeNames_.size()) + 2 * passPlanes) * sizeof(double) +
+                                 sizeof(uint32_t) + double(3 * (1 + planeNames_.size()) + passPlanes) * sizeof(float);
     requireMemory(bytesPerPixel * double(window_.area()),
                   "a film of " + std::to_string(window_.width()) + "x" + std::to_string(window_.height()) + " pixels");
     sum_.assign(window_.area() * 3, 0.0);
     splat_.assign(window_.area() * 3, 0.0);
     planeSums_.assign(planeNames_.size(), std::vector<double>(window_.area() * 3, 0.0));
     count_.assign(window_.area(), 0);
+    passStart_.assign(passPlanes, std::vector<double>(window_.area(), 0.0));
+    passSquares_.assign(passPlanes, std::vector<double>(window_.area(), 0.0));
 }
 
 std::pair<int, int> SampleFilm::rowsAround(const Vec2& raster) const {
@@ -73,6 +76,31 @@ void SampleFilm::merge(const TileResult& tile) {
             plane[3 * dst + size_t(c)] += v.value[c];
     }
     lightPaths_ += tile.lightPaths;
+}
+
+double SampleFilm::sumLuminance(size_t k, size_t i) const {
+    const std::vector<double>& plane = k == 0 ? sum_ : planeSums_[k - 1];
+    return Spectrum(plane[3 * i], plane[3 * i + 1], plane[3 * i + 2]).luminance();
+}
+
+void SampleFilm::endPass() {
+    for (size_t k = 0; k < passStart_.size(); ++k)
+        for (size_t i = 0; i < window_.area(); ++i) {
+            const double now = sumLuminance(k, i), x = now - passStart_[k][i];
+            passSquares_[k][i] += x * x;
+            passStart_[k][i] = now;
+        }
+    ++passesEnded_;
+}
+
+double SampleFilm::passVariance(size_t k, size_t i) const {
+    const double n = count_[i];
+    if (n < 2) return 0.0;
+    const double now = sumLuminance(k, i), pending = now - passStart_[k][i];
+    const double squares = passSquares_[k][i] + (count_[i] > passesEnded_ ? pending * pending : 0.0);
+    const double mean = now / n;
+    // Rounding can take the difference of two nearly equal sums below zero.
+    return std::max(0.0, (squares - n * mean * mean) / (n - 1));
 }
 
 void SampleFilm::addSplat(const Splat& s, int rowLo, int rowHi) {
@@ -138,6 +166,14 @@ file::Buffer SampleFilm::toBuffer(double splatScale) const {
                 plane[i] = count_[i] > 0 ? float(planeSums_[p][3 * i + c] / count_[i]) : 0.0f;
             b.planes.push_back(std::move(plane));
         }
+    for (size_t k = 0; k < passStart_.size(); ++k) {
+        b.channels.push_back((k == 0 ? std::string("primal") : planeNames_[k - 1]) + ".var");
+        std::vector<float> plane(window_.area());
+        for (size_t i = 0; i < window_.area(); ++i)
+            // A variance beyond float's range (luminances above ~1e19) is stored as the largest float.
+            plane[i] = float(std::min(passVariance(k, i), double(std::numeric_limits<float>::max())));
+        b.planes.push_back(std::move(plane));
+    }
     b.sampleCounts = count_;
     // Buffers of independent runs average by their work: camera samples, or for a splat-only film (the
     // Markov chains) the number of mutations.

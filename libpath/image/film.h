@@ -8,6 +8,14 @@
 // Besides the primal image a film may hold further named RGB planes (a gradient-domain estimator's "dx",
 // "dy", "direct": formats/SPEC.md): each pixel's value is the sum of what camera samples gave it,
 // divided by the pixel's own camera samples.
+// A film with further planes also estimates, per pixel, the variance of one pass's value of each plane
+// (primal included), in luminance: the gradient-domain estimators give every pixel one value per sample
+// pass, assembled from its own sample and its neighbours' shifts (G-PT) or from its tile (path reusing),
+// and the passes are independent, so the passes' values are i.i.d. draws of the pixel's estimate.
+// The render loop says where a pass ends (endPass); the film keeps each pixel's luminance at the pass's
+// start and the sum of the squared values of the ended passes, and writes the sample variance
+// s^2 = (sum x_p^2 - n mean^2) / (n - 1) as channel NAME.var (the variance of the pixel's mean is
+// s^2 / n, n its sample count).
 #pragma once
 
 #include <climits>
@@ -29,7 +37,13 @@ struct PixelRect {
     [[nodiscard]] int width() const { return x1 - x0; }
     [[nodiscard]] int height() const { return y1 - y0; }
     [[nodiscard]] size_t area() const { return size_t(width()) * size_t(height()); }
+    [[nodiscard]] bool contains(int x, int y) const { return x >= x0 && x < x1 && y >= y0 && y < y1; }
 };
+
+// The pixels a film stores and renders: its crop window, in full-film coordinates.
+[[nodiscard]] inline PixelRect cropWindow(const Film& f) {
+    return {f.cropX, f.cropY, f.cropX + f.cropWidth, f.cropY + f.cropHeight};
+}
 
 // What one piece of work (a tile, some samples per pixel) produced.
 struct TileResult {
@@ -64,6 +78,9 @@ public:
     }
 
     void merge(const TileResult& tile);
+    // Every pixel received its value of one more sample pass (films with further planes: the pass's values
+    // enter the variance estimate; nothing otherwise).
+    void endPass();
     // Adds the splats of several lists (the Markov chains' rounds) and their light paths, in parallel over
     // bands of rows: each pixel still receives the splats in the order given, list by list, so the film
     // is the same, bit for bit, as merging the lists one after another, for any thread count. Runs in the
@@ -84,8 +101,9 @@ public:
     [[nodiscard]] uint64_t lightPaths() const { return lightPaths_; }
     [[nodiscard]] uint64_t cameraSamples() const { return cameraSamples_; }
     // The developed image as a file buffer: channels R, G, B (with further planes: "primal.R" ... and
-    // "NAME.R/G/B" for each plane), per-pixel sample counts, and the number of camera samples as its merge
-    // weight (buffers of independent runs average by it).
+    // "NAME.R/G/B" for each plane, then "primal.var" and "NAME.var"), per-pixel sample counts, and the
+    // number of camera samples as its merge weight (buffers of independent runs average by it). A pass
+    // under way when the buffer is made counts as a pass for the pixels whose own sample it has merged.
     [[nodiscard]] file::Buffer toBuffer(double splatScale = 1) const;
 
 private:
@@ -95,6 +113,10 @@ private:
     // Calls f(index, h_j) for every stored pixel j whose filter support contains the raster position, in
     // the rows [rowLo, rowHi) only.
     template <class F> void forEachPixel(const Vec2& raster, F&& f, int rowLo = INT_MIN, int rowHi = INT_MAX) const;
+    // Luminance of pixel i's sum in plane k (0 the primal image, k > 0 planes k - 1).
+    [[nodiscard]] double sumLuminance(size_t k, size_t i) const;
+    // Sample variance of one pass's value of plane k at pixel i (0 with fewer than two passes).
+    [[nodiscard]] double passVariance(size_t k, size_t i) const;
     // A splat spread over the pixels of rows [rowLo, rowHi) it reaches.
     void addSplat(const Splat& s, int rowLo, int rowHi);
 
@@ -105,6 +127,10 @@ private:
     std::vector<std::vector<double>> planeSums_; // per plane, 3 per stored pixel
     std::vector<uint32_t> count_;
     uint64_t lightPaths_ = 0, cameraSamples_ = 0;
+    // Per plane (0 the primal image, then the further planes), per pixel: the luminance of the sum when the
+    // current pass began, and the sum over ended passes of each pass's value squared. Empty without planes.
+    std::vector<std::vector<double>> passStart_, passSquares_;
+    uint32_t passesEnded_ = 0;
 };
 
 } // namespace lt

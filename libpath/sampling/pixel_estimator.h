@@ -67,6 +67,11 @@ public:
     // "direct"); none for BDPT and the path tracer.
     [[nodiscard]] virtual std::vector<std::string> planes() const { return {}; }
 
+    // Whether a sample credits other pixels than its own with primal or plane values (G-PT's shifted
+    // paths): a pixel's value for a pass is then complete only when the whole pass is, and a time limit
+    // waits for the end of the pass. Otherwise a run may end after any work item.
+    [[nodiscard]] virtual bool creditsNeighbours() const { return false; }
+
     // T > 0: the estimator works a T x T tile at a time (estimateTile instead of estimate), and the loop
     // moves the tile grid by a random offset every pass ([GDPR] Sec. 3.2, tile jitter). 0: pixel by pixel.
     [[nodiscard]] virtual int reuseTileSize() const { return 0; }

@@ -65,6 +65,7 @@ RenderStats render(const Scene& scene, const PixelEstimator& estimator, const Re
     const int tilesX = (window.width() + ts - 1) / ts + extra, tilesY = (window.height() + ts - 1) / ts + extra;
     const uint64_t tilesPerPass = uint64_t(tilesX) * uint64_t(tilesY);
     const uint64_t maxPasses = settings.spp > 0 ? uint64_t(settings.spp) : UINT64_MAX;
+    const bool wholePasses = estimator.creditsNeighbours();
 
     RunClock clock;
     RenderStats stats;
@@ -85,9 +86,13 @@ RenderStats render(const Scene& scene, const PixelEstimator& estimator, const Re
                                                       fc.stop();
                                                       return nullptr;
                                                   }
-                                                  // A time limit ends the run at a pass boundary.
-                                                  if (nextItem % tilesPerPass == 0 && settings.timeLimit > 0 &&
-                                                      clock.wallSeconds() >= settings.timeLimit && pass > 0) {
+                                                  // A time limit ends the run after the first pass: at
+                                                  // the next work item, or at the next pass boundary when
+                                                  // samples credit neighbours (their values would be
+                                                  // incomplete).
+                                                  if (settings.timeLimit > 0 && pass > 0 &&
+                                                      (!wholePasses || nextItem % tilesPerPass == 0) &&
+                                                      clock.wallSeconds() >= settings.timeLimit) {
                                                       timeUp = true;
                                                       fc.stop();
                                                       return nullptr;
@@ -165,7 +170,10 @@ RenderStats render(const Scene& scene, const PixelEstimator& estimator, const Re
                     stats.samples += item->result.rect.area();
                     stats.health.nonFinite += item->health.nonFinite;
                     const bool passEnd = (item->index + 1) % tilesPerPass == 0;
-                    if (passEnd) ++stats.passes;
+                    if (passEnd) {
+                        film.endPass();
+                        ++stats.passes;
+                    }
                     double fraction = -1;
                     if (totalSamples > 0)
                         fraction = double(stats.samples) / double(totalSamples);

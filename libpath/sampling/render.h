@@ -1,9 +1,10 @@
 // The render loop of every pixel estimator (sampling/pixel_estimator.h: BDPT, path tracing, ...):
 // tiles x sample passes as work items, rendered in parallel and merged into the film strictly in item
 // order (TBB parallel_pipeline with serial in-order stages), so that a given seed and sample count give a
-// bit-identical film whatever the number of threads. It stops at the sample count, at the time limit, or
-// when `stop` becomes true (Ctrl-C), and the film then holds every merged item: a valid, normalized, if
-// noisier, result. Its clock, progress and snapshots are those of every run (sampling/run_clock.h).
+// bit-identical film whatever the number of threads. It stops at the sample count, at the time limit (after
+// the first pass, with the work items under way; at a pass's end for estimators whose samples credit
+// neighbours), or when `stop` becomes true (Ctrl-C), and the film then holds every merged item: a valid,
+// normalized, if noisier, result. Its clock, progress and snapshots are those of every run (sampling/run_clock.h).
 #pragma once
 
 #include <atomic>

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# lt-gradient from the command line: both methods write the planes lt-reconstruct reads, bit-identical data
-# whatever the thread count, snapshots that lt-reconstruct reconstructs and lt-error measures, Ctrl-C keeps
-# the work done, and nonsense options give one error line and no file.
+# lt-gradient from the command line: both methods write the planes lt-reconstruct reads (and their variance
+# planes), bit-identical data whatever the thread count, a time limit that ends G-PT at a pass's end,
+# snapshots that lt-reconstruct reconstructs and lt-error measures, Ctrl-C keeps the work done, and nonsense
+# options give one error line and no file.
 #   lt_gradient.sh BIN_DIR SOURCE_DIR
 source "$(dirname "${BASH_SOURCE[0]}")/lib.bash" "$@"
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
@@ -20,6 +21,8 @@ d = json.load(sys.stdin)
 b = d[\"buffers\"][0]
 names = b[\"channels\"]
 assert names[:3] == [\"primal.R\", \"primal.G\", \"primal.B\"] and \"dx.R\" in names and \"direct.B\" in names, names
+assert all(p + \".var\" in names for p in (\"primal\", \"dx\", \"dy\", \"direct\")), names
+assert b[\"channel_stats\"][\"primal.var\"][\"max\"] > 0, b[\"channel_stats\"][\"primal.var\"]
 t = [s for s in d[\"stats\"] if s[\"name\"] == \"shift\"][0]
 assert t[\"rows\"][1] == \"shifts\"
 "'
@@ -32,6 +35,17 @@ check "snapshots: reconstructed, each with its time" '[ "$(chunks "$tmp/snap.lts
 "$bin/lt-seed" "$scene" --method pt --spp 64 -o "$tmp/ref.lts" -q
 check "lt-error measures the reconstructed snapshots" \
   '[ "$("$bin/lt-error" "$tmp/snap.lts" --ref "$tmp/ref.lts" | grep -c SNAP)" -eq 2 ]'
+
+# A time limit: G-PT's samples credit their neighbours, so it ends only at a pass's end (every pixel has the
+# same number of base paths); path reusing may end after any tile.
+# At 192 x 192 a pass is 36 tiles, so a limit that ignored the rule would almost always cut one short.
+"$bin/lt-gradient" "$scene" --method gpt --resolution 192x192 --time 0.5 -o "$tmp/timed.lts" -q
+check "gpt --time ends at a pass's end: every pixel has the same sample count" '"$bin/lt-inspect" "$tmp/timed.lts" --json |
+    python3 -c "
+import json, sys
+c = json.load(sys.stdin)[\"buffers\"][0][\"sample_counts\"]
+assert c[\"min\"] == c[\"max\"] and c[\"min\"] >= 1, c
+"'
 
 "$bin/lt-gradient" "$scene" --spp 100000 -o "$tmp/int.lts" -q & pid=$!
 sleep 2; kill -INT $pid; wait $pid; code=$?

@@ -6,7 +6,8 @@ set -euo pipefail
 packages=(
   build-essential cmake pkg-config
   libembree-dev libtbb-dev          # ray tracing
-  libopenexr-dev libopenimageio-dev # images
+  libopenexr-dev libpng-dev         # final images: EXR, PNG preview
+  libopenimageio-dev                # bitmap textures (a module loaded on demand)
   libceres-dev libeigen3-dev        # Poisson reconstruction, small dense/sparse algebra
   libfftw3-dev                      # cosine-transform Poisson solver of large reconstructions
   libcli11-dev nlohmann-json3-dev   # command lines, JSON

@@ -1,6 +1,14 @@
 #include "image/image_io.h"
 
-#include <OpenImageIO/imageio.h>
+#include <OpenEXR/ImfChannelList.h>
+#include <OpenEXR/ImfFrameBuffer.h>
+#include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfInputPart.h>
+#include <OpenEXR/ImfMultiPartInputFile.h>
+#include <OpenEXR/ImfOutputFile.h>
+#include <OpenEXR/ImfPartType.h>
+#include <OpenEXR/ImfStringAttribute.h>
+#include <png.h>
 
 #include <algorithm>
 #include <array>
@@ -9,8 +17,10 @@
 #include <fstream>
 #include <optional>
 #include <set>
+#include <tuple>
 
 #include "math/error.h"
+#include "math/one_line.h"
 #include "math/temp_output.h"
 
 namespace lt {
@@ -36,14 +46,19 @@ std::optional<std::array<size_t, 3>> beautyChannels(const file::Buffer& b) {
     return std::nullopt;
 }
 
-// Opens `temp` with OpenImageIO's writer for `format` ("openexr", "png"), writes one image and closes
-// it; the caller commits the temporary file.
-void writeImage(const std::string& format, const TempOutput& temp, const OIIO::ImageSpec& spec, OIIO::TypeDesc type,
-                const void* data) {
-    auto out = OIIO::ImageOutput::create(format);
-    if (!out) throw Error(temp.finalPath() + ": no " + format + " writer (" + OIIO::geterror() + ")");
-    if (!out->open(temp.path(), spec) || !out->write_image(type, data) || !out->close())
-        throw Error(temp.finalPath() + ": cannot write " + format + " (" + out->geterror() + ")");
+// The order a reader presents an EXR's channels in (the file keeps them sorted by name): the beauty layer
+// first, then the other layers as the file has them, and within each layer R, G, B, A before the rest, as
+// viewers and OpenImageIO show them.
+bool exrChannelBefore(const std::string& a, const std::string& b) {
+    auto key = [](const std::string& name) {
+        const size_t dot = name.rfind('.');
+        const std::string layer = dot == std::string::npos ? "" : name.substr(0, dot);
+        const std::string suffix = dot == std::string::npos ? name : name.substr(dot + 1);
+        static const std::array<std::string, 4> first = {"R", "G", "B", "A"};
+        const size_t rank = size_t(std::find(first.begin(), first.end(), suffix) - first.begin());
+        return std::tuple(!layer.empty(), layer, rank, suffix);
+    };
+    return key(a) < key(b);
 }
 
 // sRGB transfer function (IEC 61966-2-1) of a linear value in [0, 1].
@@ -74,41 +89,35 @@ void checkBuffer(const file::Buffer& b, const std::string& name) {
 
 void writeExr(const std::string& path, const file::Buffer& buffer, const nlohmann::json& info) {
     checkBuffer(buffer, path);
-    // Beauty first: viewers show the first channels, and OpenImageIO reads R, G, B, A first anyway.
-    std::vector<size_t> order;
-    if (const auto rgb = beautyChannels(buffer); rgb && buffer.channels[(*rgb)[0]] == "R")
-        order = {rgb->begin(), rgb->end()};
-    for (size_t c = 0; c < buffer.channels.size(); ++c)
-        if (std::find(order.begin(), order.end(), c) == order.end()) order.push_back(c);
-
-    OIIO::ImageSpec spec(int(buffer.width), int(buffer.height), int(order.size()), OIIO::TypeDesc::FLOAT);
-    spec.channelnames.clear();
-    spec.alpha_channel = -1;
-    for (size_t i = 0; i < order.size(); ++i) {
-        spec.channelnames.push_back(buffer.channels[order[i]]);
-        if (buffer.channels[order[i]] == "A") spec.alpha_channel = int(i);
-    }
-    spec.attribute("compression", "zip");
-    spec.attribute("lt:info", info.dump());
+    // An EXR file keeps its channels sorted by name; readers put R, G, B first (readExr does).
+    Imf::Header header(int(buffer.width), int(buffer.height));
+    header.compression() = Imf::ZIP_COMPRESSION;
+    header.insert("lt:info", Imf::StringAttribute(info.dump()));
     if (info.contains("producer") && info["producer"].is_string())
-        spec.attribute("lt:producer", info["producer"].get<std::string>());
+        header.insert("lt:producer", Imf::StringAttribute(info["producer"].get<std::string>()));
     if (info.contains("scene") && info["scene"].is_object()) {
         const auto& scene = info["scene"];
         if (scene.contains("path") && scene["path"].is_string())
-            spec.attribute("lt:scene", scene["path"].get<std::string>());
+            header.insert("lt:scene", Imf::StringAttribute(scene["path"].get<std::string>()));
         if (scene.contains("hash") && scene["hash"].is_string())
-            spec.attribute("lt:scene_hash", scene["hash"].get<std::string>());
+            header.insert("lt:scene_hash", Imf::StringAttribute(scene["hash"].get<std::string>()));
     }
-
-    const size_t pixels = size_t(buffer.width) * size_t(buffer.height);
-    std::vector<float> interleaved(pixels * order.size());
-    for (size_t i = 0; i < order.size(); ++i) {
-        const auto& plane = buffer.planes[order[i]];
-        for (size_t p = 0; p < pixels; ++p)
-            interleaved[p * order.size() + i] = plane[p];
+    // The planes are written in place, one slice each (rows top to bottom, as the buffer stores them).
+    Imf::FrameBuffer frame;
+    for (size_t c = 0; c < buffer.channels.size(); ++c) {
+        header.channels().insert(buffer.channels[c], Imf::Channel(Imf::FLOAT));
+        frame.insert(buffer.channels[c],
+                     Imf::Slice(Imf::FLOAT, const_cast<char*>(reinterpret_cast<const char*>(buffer.planes[c].data())),
+                                sizeof(float), sizeof(float) * size_t(buffer.width)));
     }
     TempOutput temp(path);
-    writeImage("openexr", temp, spec, OIIO::TypeDesc::FLOAT, interleaved.data());
+    try {
+        Imf::OutputFile out(temp.path().c_str(), header);
+        out.setFrameBuffer(frame);
+        out.writePixels(int(buffer.height));
+    } catch (const std::exception& e) {
+        throw Error(path + ": cannot write EXR (" + oneLine(e.what()) + ")");
+    }
     temp.commit();
 }
 
@@ -126,44 +135,63 @@ void writePng(const std::string& path, const file::Buffer& buffer, double exposu
             const double clamped = !(v > 0) ? 0.0 : std::min(v, 1.0);
             bytes[p * 3 + c] = uint8_t(std::lround(255 * srgbEncode(clamped)));
         }
-    OIIO::ImageSpec spec(int(buffer.width), int(buffer.height), 3, OIIO::TypeDesc::UINT8);
-    spec.attribute("oiio:ColorSpace", "sRGB");
+    // libpng's simplified writer: 8-bit RGB, marked sRGB.
+    png_image image{};
+    image.version = PNG_IMAGE_VERSION;
+    image.width = buffer.width;
+    image.height = buffer.height;
+    image.format = PNG_FORMAT_RGB;
     TempOutput temp(path);
-    writeImage("png", temp, spec, OIIO::TypeDesc::UINT8, bytes.data());
+    if (!png_image_write_to_file(&image, temp.path().c_str(), 0, bytes.data(), 0, nullptr))
+        throw Error(path + ": cannot write PNG (" + std::string(image.message) + ")");
     temp.commit();
 }
 
 file::Buffer readExr(const std::string& path) {
-    auto in = OIIO::ImageInput::open(path);
-    if (!in) throw Error(path + ": cannot read EXR (" + OIIO::geterror() + ")");
-    if (std::string(in->format_name()) != "openexr")
-        throw Error(path + ": not an EXR file (it is " + std::string(in->format_name()) + ")");
+    if (!std::ifstream(path, std::ios::binary)) throw Error(path + ": cannot read EXR (no such file, or not readable)");
+    if (!isExrFile(path)) throw Error(path + ": not an EXR file (no EXR magic number)");
     file::Buffer b;
-    const OIIO::ImageSpec first = in->spec();
-    b.width = uint32_t(first.width);
-    b.height = uint32_t(first.height);
-    const size_t pixels = size_t(b.width) * size_t(b.height);
-    for (int part = 0; in->seek_subimage(part, 0); ++part) {
-        const OIIO::ImageSpec& spec = in->spec();
-        if (spec.deep) throw Error(path + ": deep EXR data is not supported");
-        // Parts of another data window are other images (e.g. a preview), not planes of this one.
-        if (spec.x != first.x || spec.y != first.y || spec.width != first.width || spec.height != first.height)
-            continue;
-        const size_t n = size_t(spec.nchannels);
-        std::vector<float> data(pixels * n);
-        if (!in->read_image(part, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, data.data()))
-            throw Error(path + ": cannot read EXR (" + in->geterror() + ")");
-        const std::string partName = spec.get_string_attribute("oiio:subimagename");
-        for (size_t c = 0; c < n; ++c) {
-            std::string name = spec.channelnames[c];
-            if (std::find(b.channels.begin(), b.channels.end(), name) != b.channels.end() && !partName.empty())
-                name = partName + "." + name;
-            std::vector<float> plane(pixels);
-            for (size_t p = 0; p < pixels; ++p)
-                plane[p] = data[p * n + c];
-            b.channels.push_back(std::move(name));
-            b.planes.push_back(std::move(plane));
+    try {
+        Imf::MultiPartInputFile file(path.c_str());
+        const Imath::Box2i first = file.header(0).dataWindow();
+        b.width = uint32_t(first.max.x - first.min.x + 1);
+        b.height = uint32_t(first.max.y - first.min.y + 1);
+        const size_t pixels = size_t(b.width) * size_t(b.height);
+        for (int part = 0; part < file.parts(); ++part) {
+            const Imf::Header& header = file.header(part);
+            if (header.hasType() && Imf::isDeepData(header.type()))
+                throw Error(path + ": deep EXR data is not supported");
+            // Parts of another data window are other images (e.g. a preview), not planes of this one.
+            if (header.dataWindow() != first) continue;
+            const std::string partName = header.hasName() ? header.name() : "";
+            std::vector<std::string> names;
+            for (auto it = header.channels().begin(); it != header.channels().end(); ++it)
+                names.emplace_back(it.name());
+            std::stable_sort(names.begin(), names.end(), exrChannelBefore);
+            // Every channel read as float (half and unsigned int convert), one plane each.
+            Imf::FrameBuffer frame;
+            const size_t firstNew = b.planes.size();
+            for (const auto& name : names) {
+                std::vector<float>& plane = b.planes.emplace_back(pixels);
+                frame.insert(name, Imf::Slice::Make(Imf::FLOAT, plane.data(), first, sizeof(float),
+                                                    sizeof(float) * size_t(b.width)));
+            }
+            Imf::InputPart in(file, part);
+            in.setFrameBuffer(frame);
+            in.readPixels(first.min.y, first.max.y);
+            for (size_t c = 0; c < names.size(); ++c) {
+                std::string name = names[c];
+                if (std::find(b.channels.begin(), b.channels.begin() + std::ptrdiff_t(firstNew), name) !=
+                        b.channels.begin() + std::ptrdiff_t(firstNew) &&
+                    !partName.empty())
+                    name = partName + "." + name;
+                b.channels.push_back(std::move(name));
+            }
         }
+    } catch (const Error&) {
+        throw;
+    } catch (const std::exception& e) {
+        throw Error(path + ": cannot read EXR (" + oneLine(e.what()) + ")");
     }
     checkBuffer(b, path);
     return b;

@@ -1,6 +1,7 @@
-// Sample buffers to and from image files through OpenImageIO: a linear float EXR with every plane as a
-// channel and the file's INFO as metadata (the exchange format for final images), an 8-bit
-// sRGB PNG preview, and reading any EXR back into a buffer (ours, or one another renderer wrote).
+// Sample buffers to and from image files: a linear float EXR with every plane as a channel and the file's
+// INFO as metadata (the exchange format for final images; OpenEXR), an 8-bit sRGB PNG preview (libpng), and
+// reading any EXR back into a buffer (ours, or one another renderer wrote). Neither needs OpenImageIO, which
+// only the scene's bitmap textures load (texture/image_file.h): a tool starts without its libraries.
 // Writes go to a temporary name renamed when complete; every error is an lt::Error naming the file.
 #pragma once
 
@@ -25,7 +26,8 @@ void writeExr(const std::string& path, const file::Buffer& buffer, const nlohman
 // X.R, X.G, X.B) scaled by 2^exposureEV, clamped to [0, 1]; NaN and negative values become black.
 void writePng(const std::string& path, const file::Buffer& buffer, double exposureEV);
 
-// Every channel of an EXR file as a buffer of weight 1 (combine "weighted-mean", no sample counts).
+// Every channel of an EXR file as a buffer of weight 1 (combine "weighted-mean", no sample counts), in
+// float whatever the file stores, the beauty layer first and R, G, B, A first in each layer.
 // The data window is the image; parts of a multi-part file with the data window of the first are added
 // as further channels, prefixed with the part's name where they would repeat a name.
 [[nodiscard]] file::Buffer readExr(const std::string& path);

@@ -1,6 +1,6 @@
 #include "scene/missing_file.h"
 
-#include <OpenImageIO/strutil.h>
+#include <strings.h>
 
 #include <optional>
 #include <system_error>
@@ -23,7 +23,7 @@ std::optional<fs::path> caseInsensitiveMatch(const fs::path& path) {
         }
         std::optional<fs::path> next;
         for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec))
-            if (OIIO::Strutil::iequals(it->path().filename().string(), part.string())) {
+            if (strcasecmp(it->path().filename().c_str(), part.c_str()) == 0) {
                 next = found / it->path().filename();
                 break;
             }

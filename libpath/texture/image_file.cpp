@@ -1,43 +1,63 @@
 #include "texture/image_file.h"
 
-#include <OpenImageIO/imageio.h>
-#include <OpenImageIO/strutil.h>
+#include <dlfcn.h>
+#include <unistd.h>
+
+#include <filesystem>
 
 #include "math/error.h"
 
 namespace lt {
 
 namespace {
-// OpenImageIO's messages may span lines; the project's errors are one line.
-std::string oneLine(std::string message) {
-    while (!message.empty() && (message.back() == '\n' || message.back() == '\r'))
-        message.pop_back();
-    for (char& c : message)
-        if (c == '\n' || c == '\r') c = ' ';
-    return message;
+
+// The directories searched for the module, in order: the running executable's (the tools' bin/), then the
+// build tree's bin/ (LT_MODULE_DIR, for the test runner beside it).
+std::vector<std::filesystem::path> moduleDirectories() {
+    std::vector<std::filesystem::path> dirs;
+    std::error_code ec;
+    const auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+    if (!ec) dirs.push_back(exe.parent_path());
+#ifdef LT_MODULE_DIR
+    dirs.emplace_back(LT_MODULE_DIR);
+#endif
+    return dirs;
 }
+
+// Loads the module once (later calls reuse it) and returns its entry point; throws naming what failed.
+ImageReaderEntry imageReader() {
+    static const ImageReaderEntry entry = [] {
+        std::string tried;
+        for (const auto& dir : moduleDirectories()) {
+            const std::string path = (dir / kImageReaderModule).string();
+            if (access(path.c_str(), F_OK) != 0) {
+                tried += (tried.empty() ? "" : ", ") + path;
+                continue;
+            }
+            void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
+            if (!handle) throw Error(std::string("cannot load the image reader module: ") + dlerror());
+            void* symbol = dlsym(handle, kImageReaderEntry);
+            if (!symbol) throw Error(path + ": no entry point " + kImageReaderEntry + " (a stale build?)");
+            return reinterpret_cast<ImageReaderEntry>(symbol);
+        }
+        throw Error(std::string("cannot find the image reader module ") + kImageReaderModule + " (looked for " +
+                    tried + "; it is built beside the tools)");
+    }();
+    return entry;
+}
+
 } // namespace
 
 ImageFile readImageFile(const std::string& filename) {
-    OIIO::ImageSpec config;
-    config.attribute("oiio:UnassociatedAlpha", 1);
-    auto in = OIIO::ImageInput::open(filename, &config);
-    if (!in) throw Error(filename + ": cannot read image (" + oneLine(OIIO::geterror()) + ")");
-    const OIIO::ImageSpec& spec = in->spec();
+    ImageReaderEntry read;
+    try {
+        read = imageReader();
+    } catch (const Error& e) {
+        throw Error(filename + ": cannot read image (" + e.what() + ")");
+    }
     ImageFile image;
-    image.width = spec.width;
-    image.height = spec.height;
-    image.channels = spec.nchannels;
-    image.channelNames.assign(spec.channelnames.begin(), spec.channelnames.end());
-    image.channelNames.resize(size_t(image.channels));
-    if (image.width <= 0 || image.height <= 0 || image.channels <= 0)
-        throw Error(filename + ": cannot read image (empty image)");
-    image.pixels.resize(size_t(image.width) * size_t(image.height) * size_t(image.channels));
-    if (!in->read_image(0, 0, 0, image.channels, OIIO::TypeDesc::FLOAT, image.pixels.data()))
-        throw Error(filename + ": cannot read image (" + oneLine(in->geterror()) + ")");
-    in->close();
-    image.floatFormat = spec.format.is_floating_point();
-    image.saysLinear = OIIO::Strutil::iequals(spec.get_string_attribute("oiio:ColorSpace"), "Linear");
+    std::string error;
+    if (!read(filename.c_str(), &image, &error)) throw Error(filename + ": cannot read image (" + error + ")");
     return image;
 }
 

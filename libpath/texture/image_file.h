@@ -1,5 +1,10 @@
 // Reading an image file of any format OpenImageIO knows into floats: the one reader of the scene's images
 // (bitmap textures, environment maps). Final renders and references go through image/image_io.h.
+//
+// OpenImageIO brings some 250 shared libraries (codecs, OpenCV, FFmpeg, ...), whose loading and relocation
+// took most of a tool's start-up; only scenes with bitmaps need it. So the reader lives in a module of its
+// own, lt-image-reader.so (texture/image_reader_module.cpp), loaded on the first image read: a tool that reads
+// no image never loads OpenImageIO.
 #pragma once
 
 #include <string>
@@ -16,7 +21,14 @@ struct ImageFile {
 };
 
 // Colours are kept as stored, alpha not applied (OpenImageIO would premultiply; Mitsuba drops alpha).
-// Throws lt::Error "FILE: cannot read image (reason)" for a missing, unreadable or empty image.
+// Throws lt::Error "FILE: cannot read image (reason)" for a missing, unreadable or empty image, or when the
+// reader module cannot be loaded.
 [[nodiscard]] ImageFile readImageFile(const std::string& filename);
+
+// The module's one entry point, exported under this name with C linkage: reads `filename` into `image`, or
+// returns false with a one-line reason in `error`. No exception leaves the module.
+using ImageReaderEntry = bool (*)(const char* filename, ImageFile* image, std::string* error);
+inline constexpr const char* kImageReaderEntry = "lt_read_image_file";
+inline constexpr const char* kImageReaderModule = "lt-image-reader.so";
 
 } // namespace lt

@@ -6,9 +6,11 @@
 // the image file, i.e. its top. The familiar "origin at the bottom-left" of OBJ files comes from the OBJ
 // loader flipping v (Mitsuba's obj `flipTexCoords`, default true; our obj_loader.cpp does the same),
 // not from the texture; PLY and serialized uvs are used as stored.
-#include <cmath>
+#include <strings.h>
 
-#include <OpenImageIO/strutil.h>
+#include <algorithm>
+#include <cctype>
+#include <cmath>
 
 #include "math/error.h"
 #include "texture/image_file.h"
@@ -52,7 +54,7 @@ BitmapTexture::BitmapTexture(const std::string& filename, double gamma, const Ve
 
     // Automatic detection, as Mitsuba's Bitmap does: integer formats (PNG, JPEG, 8- and 16-bit TIFF ...)
     // hold sRGB-encoded values unless the file says it is linear; float formats (EXR, HDR, PFM) are linear.
-    using OIIO::Strutil::iequals;
+    const auto iequals = [](const std::string& a, const char* b) { return strcasecmp(a.c_str(), b) == 0; };
     int only = -1; // the one channel read, or -1 for colour (or luminance)
     if (!channel.empty()) {
         std::string names;
@@ -60,8 +62,10 @@ BitmapTexture::BitmapTexture(const std::string& filename, double gamma, const Ve
             // Mitsuba names a one-channel image's channel "l" (luminance); OpenImageIO calls it "y".
             const std::string& name = image.channelNames[size_t(c)];
             const bool luminance = iequals(channel, "l") && iequals(name, "y");
-            if (iequals(name, channel) || luminance) only = c;
-            names += (c ? ", " : "") + OIIO::Strutil::lower(name);
+            if (iequals(name, channel.c_str()) || luminance) only = c;
+            std::string lower = name;
+            std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char ch) { return std::tolower(ch); });
+            names += (c ? ", " : "") + lower;
         }
         if (only < 0) throw Error(filename + ": no channel '" + channel + "' (it has " + names + ")");
     }

@@ -36,7 +36,7 @@ int main(int argc, char** argv) {
     app.add_option("--method", method, "bdpt (default) or pt")->check(CLI::IsMember({"bdpt", "pt"}));
     app.add_option("--spp", spp, "samples per pixel (default: the scene's sampleCount; with --time, an upper bound)")
         ->check(CLI::PositiveNumber);
-    app.add_option("--time", timeLimit, "render for this many seconds (at least one pass over the image; the last pass may cover part of it)")
+    app.add_option("--time", timeLimit, "render for this many seconds (at least one pass over the image; the last pass may cover part of it, except with --paths, whose normalization needs whole passes)")
         ->check(CLI::PositiveNumber);
     app.add_option("--max-depth", maxDepth,
                    "longest path in edges, Mitsuba's meaning: 1 = emitters seen directly, "

@@ -328,10 +328,15 @@ struct Shifter {
             if (!y.bsdf) return {ShiftCause::Mismatch};
             if (x.light.emitter >= 0 && i != lightTaken) shiftLightSample(x, i, y, p);
             if (!x.scattered) return {ShiftCause::Followed};
-            if (i == stop) return {ShiftCause::EarlyOut};
+            const bool connectable = connectableLobe(*x.bsdf, x.si.uv, x.delta(), threshold);
+            const bool alike = connectableLobe(*y.bsdf, y.si.uv, x.delta(), threshold) == connectable;
+            // At the early out's vertex (connectable, so non-delta) the causes a full shift would give.
+            if (i == stop)
+                return {alike && samplesLights(*y.bsdf) ? ShiftCause::EarlyOut : ShiftCause::Mismatch, edges};
             const BaseVertex* next = x.escaped ? nullptr : &base.vertices[i + 1];
 
-            // Ending 2i + 1 through a non-delta lobe ends by a reconnection, as the light sample does.
+            // Ending 2i + 1 through a non-delta lobe ends by a reconnection, as the light sample does, whatever
+            // the classification of y_i.
             std::optional<Join> joined;
             if (!x.delta()) {
                 if (!samplesLights(*y.bsdf)) return {ShiftCause::Mismatch};
@@ -340,8 +345,7 @@ struct Shifter {
                 out[2 * i + 1] = bsdfEnding(p, x, joined->s.fCos, joined->s.pdf, joined->q, joined->jacobian,
                                             reachedFrom(scene, y.si.p, next, joined->wo, false), joined->free);
             }
-            const bool connectable = connectableLobe(*x.bsdf, x.si.uv, x.delta(), threshold);
-            if (connectableLobe(*y.bsdf, y.si.uv, x.delta(), threshold) != connectable) return {ShiftCause::Mismatch};
+            if (!alike) return {ShiftCause::Mismatch};
             if (connectable) {
                 // x_i and y_i are connectable: the endings through x_{i+1} reconnect here when x_{i+1} is
                 // connectable for them (all its endings, unless it took a delta lobe: then its light sample only).

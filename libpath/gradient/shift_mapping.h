@@ -68,7 +68,11 @@ struct ShiftOutcome {
 // the offset may differ: any emitter counts), the environment along x_i's escape direction (the offset's
 // too), the base's light samples after x_i with their visibility. When none can, the shift stops at x_i after
 // its light sample, and the rest of its endings are zero. This is exact: an ending that carries light in no
-// pixel of the set adds nothing, whatever its densities (shareOverPixels).
+// pixel of the set adds nothing, whatever its densities (shareOverPixels). (Unless a term there would not be
+// finite, e.g. an overflowing Jacobian times a zero radiance: followed to its end, the shift would drop the
+// whole base path as non-finite; with the early out that term is never computed and the path counts.)
+// A shift that reaches x_i and is classified there as the base is counts as early_out, with x_i as its
+// reconnection depth.
 enum class EarlyOut {
     Take,
     Never // follow every shift to its end (the tests compare both)

@@ -94,13 +94,13 @@ void SampleFilm::endPass() {
 }
 
 double SampleFilm::passVariance(size_t k, size_t i) const {
-    const double n = count_[i];
+    // From the ended passes only: a pass under way (cut short by Ctrl-C or a time limit) may hold a pixel's
+    // own sample without its neighbours' shares, or their shares without its own sample.
+    const double n = std::min(count_[i], passesEnded_);
     if (n < 2) return 0.0;
-    const double now = sumLuminance(k, i), pending = now - passStart_[k][i];
-    const double squares = passSquares_[k][i] + (count_[i] > passesEnded_ ? pending * pending : 0.0);
-    const double mean = now / n;
+    const double mean = passStart_[k][i] / n;
     // Rounding can take the difference of two nearly equal sums below zero.
-    return std::max(0.0, (squares - n * mean * mean) / (n - 1));
+    return std::max(0.0, (passSquares_[k][i] - n * mean * mean) / (n - 1));
 }
 
 void SampleFilm::addSplat(const Splat& s, int rowLo, int rowHi) {

@@ -102,8 +102,8 @@ public:
     [[nodiscard]] uint64_t cameraSamples() const { return cameraSamples_; }
     // The developed image as a file buffer: channels R, G, B (with further planes: "primal.R" ... and
     // "NAME.R/G/B" for each plane, then "primal.var" and "NAME.var"), per-pixel sample counts, and the
-    // number of camera samples as its merge weight (buffers of independent runs average by it). A pass
-    // under way when the buffer is made counts as a pass for the pixels whose own sample it has merged.
+    // number of camera samples as its merge weight (buffers of independent runs average by it). The
+    // variances leave out a pass under way when the buffer is made.
     [[nodiscard]] file::Buffer toBuffer(double splatScale = 1) const;
 
 private:
@@ -115,7 +115,7 @@ private:
     template <class F> void forEachPixel(const Vec2& raster, F&& f, int rowLo = INT_MIN, int rowHi = INT_MAX) const;
     // Luminance of pixel i's sum in plane k (0 the primal image, k > 0 planes k - 1).
     [[nodiscard]] double sumLuminance(size_t k, size_t i) const;
-    // Sample variance of one pass's value of plane k at pixel i (0 with fewer than two passes).
+    // Sample variance of one pass's value of plane k at pixel i, over the ended passes (0 with fewer than two).
     [[nodiscard]] double passVariance(size_t k, size_t i) const;
     // A splat spread over the pixels of rows [rowLo, rowHi) it reaches.
     void addSplat(const Splat& s, int rowLo, int rowHi);

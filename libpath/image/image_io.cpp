@@ -7,6 +7,7 @@
 #include <OpenEXR/ImfMultiPartInputFile.h>
 #include <OpenEXR/ImfOutputFile.h>
 #include <OpenEXR/ImfPartType.h>
+#include <OpenEXR/ImfStdIO.h>
 #include <OpenEXR/ImfStringAttribute.h>
 #include <png.h>
 
@@ -20,6 +21,7 @@
 #include <tuple>
 
 #include "math/error.h"
+#include "math/memory_budget.h"
 #include "math/one_line.h"
 #include "math/temp_output.h"
 
@@ -111,13 +113,19 @@ void writeExr(const std::string& path, const file::Buffer& buffer, const nlohman
                                 sizeof(float), sizeof(float) * size_t(buffer.width)));
     }
     TempOutput temp(path);
+    // Our own stream: OutputFile's destructor writes the line offsets and swallows any failure there (a full
+    // disk at the end), which only the stream's state then shows.
+    std::ofstream file(temp.path(), std::ios::binary);
     try {
-        Imf::OutputFile out(temp.path().c_str(), header);
+        Imf::StdOFStream stream(file, temp.path().c_str());
+        Imf::OutputFile out(stream, header);
         out.setFrameBuffer(frame);
         out.writePixels(int(buffer.height));
     } catch (const std::exception& e) {
         throw Error(path + ": cannot write EXR (" + oneLine(e.what()) + ")");
     }
+    file.close();
+    if (!file) throw Error(path + ": cannot write EXR (writing " + temp.path() + " failed: is the disk full?)");
     temp.commit();
 }
 
@@ -157,6 +165,14 @@ file::Buffer readExr(const std::string& path) {
         b.width = uint32_t(first.max.x - first.min.x + 1);
         b.height = uint32_t(first.max.y - first.min.y + 1);
         const size_t pixels = size_t(b.width) * size_t(b.height);
+        size_t channels = 0;
+        for (int part = 0; part < file.parts(); ++part)
+            if (file.header(part).dataWindow() == first)
+                for (auto it = file.header(part).channels().begin(); it != file.header(part).channels().end(); ++it)
+                    ++channels;
+        requireMemory(double(pixels) * double(channels) * sizeof(float),
+                      path + ": an EXR of " + std::to_string(b.width) + "x" + std::to_string(b.height) + " pixels and " +
+                          std::to_string(channels) + " channels");
         for (int part = 0; part < file.parts(); ++part) {
             const Imf::Header& header = file.header(part);
             if (header.hasType() && Imf::isDeepData(header.type()))

@@ -65,7 +65,10 @@ RenderStats render(const Scene& scene, const PixelEstimator& estimator, const Re
     const int tilesX = (window.width() + ts - 1) / ts + extra, tilesY = (window.height() + ts - 1) / ts + extra;
     const uint64_t tilesPerPass = uint64_t(tilesX) * uint64_t(tilesY);
     const uint64_t maxPasses = settings.spp > 0 ? uint64_t(settings.spp) : UINT64_MAX;
-    const bool wholePasses = estimator.creditsNeighbours();
+    // A run ends at a pass's end when a pixel's value needs the whole pass (samples credit neighbours), and
+    // when it collects seeds: their normalization b = total x pixels / samples (sampling/seed_reservoir.h)
+    // estimates the image's integral only if every pixel has as many samples.
+    const bool wholePasses = estimator.creditsNeighbours() || seeds != nullptr;
 
     RunClock clock;
     RenderStats stats;
@@ -88,8 +91,7 @@ RenderStats render(const Scene& scene, const PixelEstimator& estimator, const Re
                                                   }
                                                   // A time limit ends the run after the first pass: at
                                                   // the next work item, or at the next pass boundary when
-                                                  // samples credit neighbours (their values would be
-                                                  // incomplete).
+                                                  // whole passes are needed (above).
                                                   if (settings.timeLimit > 0 && pass > 0 &&
                                                       (!wholePasses || nextItem % tilesPerPass == 0) &&
                                                       clock.wallSeconds() >= settings.timeLimit) {

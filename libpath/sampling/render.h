@@ -3,7 +3,7 @@
 // order (TBB parallel_pipeline with serial in-order stages), so that a given seed and sample count give a
 // bit-identical film whatever the number of threads. It stops at the sample count, at the time limit (after
 // the first pass, with the work items under way; at a pass's end for estimators whose samples credit
-// neighbours), or when `stop` becomes true (Ctrl-C), and the film then holds every merged item: a valid,
+// neighbours and for runs that collect seeds), or when `stop` becomes true (Ctrl-C), and the film then holds every merged item: a valid,
 // normalized, if noisier, result. Its clock, progress and snapshots are those of every run (sampling/run_clock.h).
 #pragma once
 

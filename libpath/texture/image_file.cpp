@@ -3,6 +3,7 @@
 #include <dlfcn.h>
 #include <unistd.h>
 
+#include <cstdlib>
 #include <filesystem>
 
 #include "math/error.h"
@@ -11,10 +12,11 @@ namespace lt {
 
 namespace {
 
-// The directories searched for the module, in order: the running executable's (the tools' bin/), then the
-// build tree's bin/ (LT_MODULE_DIR, for the test runner beside it).
+// The directories searched for the module, in order: $LT_MODULE_DIR when set, the running executable's (the
+// tools' bin/), then the build tree's bin/ (LT_MODULE_DIR at compile time, for the test runner).
 std::vector<std::filesystem::path> moduleDirectories() {
     std::vector<std::filesystem::path> dirs;
+    if (const char* env = std::getenv("LT_MODULE_DIR"); env && *env) dirs.emplace_back(env);
     std::error_code ec;
     const auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
     if (!ec) dirs.push_back(exe.parent_path());
@@ -24,24 +26,41 @@ std::vector<std::filesystem::path> moduleDirectories() {
     return dirs;
 }
 
-// Loads the module once (later calls reuse it) and returns its entry point; throws naming what failed.
+// The entry point of the module at `path`, or nothing with the reason in `why` (not there, not loadable,
+// another build's).
+ImageReaderEntry openModule(const std::string& path, std::string& why) {
+    if (access(path.c_str(), F_OK) != 0) {
+        why = path + ": not there";
+        return nullptr;
+    }
+    void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
+    if (!handle) {
+        const char* e = dlerror();
+        why = e ? e : path + ": cannot be loaded";
+        return nullptr;
+    }
+    const auto abi = reinterpret_cast<ImageReaderAbi>(dlsym(handle, kImageReaderAbiEntry));
+    const auto entry = reinterpret_cast<ImageReaderEntry>(dlsym(handle, kImageReaderEntry));
+    if (!abi || !entry || abi() != kImageReaderAbi) {
+        why = path + ": built for another version of lt";
+        dlclose(handle);
+        return nullptr;
+    }
+    return entry;
+}
+
+// Loads the module once (later calls reuse it; the first after a failure tries again) and returns its entry
+// point; throws saying where it looked and what it found.
 ImageReaderEntry imageReader() {
     static const ImageReaderEntry entry = [] {
         std::string tried;
         for (const auto& dir : moduleDirectories()) {
-            const std::string path = (dir / kImageReaderModule).string();
-            if (access(path.c_str(), F_OK) != 0) {
-                tried += (tried.empty() ? "" : ", ") + path;
-                continue;
-            }
-            void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
-            if (!handle) throw Error(std::string("cannot load the image reader module: ") + dlerror());
-            void* symbol = dlsym(handle, kImageReaderEntry);
-            if (!symbol) throw Error(path + ": no entry point " + kImageReaderEntry + " (a stale build?)");
-            return reinterpret_cast<ImageReaderEntry>(symbol);
+            std::string why;
+            if (const ImageReaderEntry e = openModule((dir / kImageReaderModule).string(), why)) return e;
+            tried += (tried.empty() ? "" : "; ") + why;
         }
-        throw Error(std::string("cannot find the image reader module ") + kImageReaderModule + " (looked for " +
-                    tried + "; it is built beside the tools)");
+        throw Error(std::string("no usable image reader module ") + kImageReaderModule + ", which is built beside " +
+                    "the tools (" + tried + ")");
     }();
     return entry;
 }

@@ -7,6 +7,7 @@
 // no image never loads OpenImageIO.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -25,10 +26,20 @@ struct ImageFile {
 // reader module cannot be loaded.
 [[nodiscard]] ImageFile readImageFile(const std::string& filename);
 
-// The module's one entry point, exported under this name with C linkage: reads `filename` into `image`, or
+// The module's entry point, exported under this name with C linkage: reads `filename` into `image`, or
 // returns false with a one-line reason in `error`. No exception leaves the module.
 using ImageReaderEntry = bool (*)(const char* filename, ImageFile* image, std::string* error);
 inline constexpr const char* kImageReaderEntry = "lt_read_image_file";
 inline constexpr const char* kImageReaderModule = "lt-image-reader.so";
+
+// ImageFile and std::string cross the module's boundary, so a module of another build (a copy beside other
+// tools, a stale build tree) must not be used unless their layout is the same: it exports
+// kImageReaderAbiEntry, which returns kImageReaderAbi as the module was compiled, and the loader takes only a
+// module whose value is its own. Raise kImageReaderInterface when the entry point's meaning changes.
+using ImageReaderAbi = uint64_t (*)();
+inline constexpr const char* kImageReaderAbiEntry = "lt_image_reader_abi";
+inline constexpr uint64_t kImageReaderInterface = 1;
+inline constexpr uint64_t kImageReaderAbi = kImageReaderInterface << 32 | uint64_t(sizeof(ImageFile)) << 16 |
+                                            uint64_t(sizeof(std::string));
 
 } // namespace lt

@@ -57,5 +57,8 @@ extern "C" __attribute__((visibility("default"))) bool lt_read_image_file(const 
     return false;
 }
 
-// The entry point's type is the one the loader casts to.
+extern "C" __attribute__((visibility("default"))) uint64_t lt_image_reader_abi() { return lt::kImageReaderAbi; }
+
+// The entry points' types are those the loader casts to.
 static_assert(std::is_same_v<decltype(&lt_read_image_file), lt::ImageReaderEntry>);
+static_assert(std::is_same_v<decltype(&lt_image_reader_abi), lt::ImageReaderAbi>);

@@ -30,6 +30,17 @@ check "same seed, 1 vs 2 threads: identical path chunks" '[ "$(chunks "$tmp/a.lt
 "$bin/lt-seed" "$tmp/box.xml" -o "$tmp/c.lts" --threads 2 --seed 4 -q
 check "another seed gives another image" '[ "$(chunks "$tmp/a.lts" | grep BUFR)" != "$(chunks "$tmp/c.lts" | grep BUFR)" ]'
 
+# A time limit: an image may end within a pass (pixels normalise by their own counts), a run collecting seeds
+# only at a pass's end (their normalization b assumes as many samples in every pixel). At 192 x 192 a pass is
+# 36 tiles, so a limit that ignored the rule would almost always cut one short.
+"$bin/lt-seed" "$tmp/box.xml" --resolution 192x192 --spp 100000 --time 0.5 -o "$tmp/timed.lts" --paths "$tmp/timed.ltp" -q
+check "--time with --paths ends at a pass's end: every pixel has the same sample count" \
+  '"$bin/lt-inspect" "$tmp/timed.lts" --json | python3 -c "
+import json, sys
+c = json.load(sys.stdin)[\"buffers\"][0][\"sample_counts\"]
+assert c[\"min\"] == c[\"max\"] and c[\"min\"] >= 1, c
+"'
+
 "$bin/lt-seed" "$tmp/box.xml" --spp 1 -o - -q | head -c 4 > "$tmp/head"
 check "streams to stdout" '[ "$(cat "$tmp/head")" = "$(printf "LTF\001")" ]'
 

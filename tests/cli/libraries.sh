@@ -31,4 +31,9 @@ loaded "$bin/lt-seed" "$src/scenes/window-room/scene.xml" --resolution 8x8 --spp
 check "a scene with an image loads the reader module and OpenImageIO" \
   'grep -q "lt-image-reader.so" "$tmp/room.libs" && grep -q OpenImageIO "$tmp/room.libs"'
 check "and renders" '[ -s "$tmp/room.lts" ]'
+# A module that does not load (here $LT_MODULE_DIR, searched first, holds a broken one) is skipped for the next.
+mkdir -p "$tmp/broken" && echo "not a shared object" > "$tmp/broken/lt-image-reader.so"
+LT_MODULE_DIR="$tmp/broken" "$bin/lt-seed" "$src/scenes/window-room/scene.xml" --resolution 8x8 --spp 1 \
+  -o "$tmp/room2.lts" -q 2> "$tmp/broken.err"; code=$?
+check "a broken module first in the search is skipped" '[ $code -eq 0 ] && [ -s "$tmp/room2.lts" ] && [ ! -s "$tmp/broken.err" ]'
 exit $fail

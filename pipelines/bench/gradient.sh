@@ -26,7 +26,7 @@ for scene in ${SCENES:-cornell-box veach-mis veach-bidir door-ajar}; do
     --ref "$ref" --out "$out/$scene"
   for m in gpt gdpr; do
     echo "== $scene, $m"
-    "$bin/lt-inspect" "$out/$scene/$m.gradient.lts" | sed -n '/stat *shift/,$p' | head -22
+    "$bin/lt-inspect" "$out/$scene/$m.gradient.lts" | sed -n '/stat *shift/,/rr_survived/p'
   done
 done
 

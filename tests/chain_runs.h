@@ -15,6 +15,7 @@
 #include "mcmc/primary_space_chains.h"
 #include "mcmc/mutation_selection.h"
 #include "sampling/render.h"
+#include "test_util.h"
 
 namespace lt::test {
 
@@ -28,6 +29,21 @@ inline MeanAndError meanAndError(const std::vector<double>& v) {
     for (const double x : v)
         s2 += (x - m) * (x - m);
     return {m, std::sqrt(s2 / (n - 1) / n)};
+}
+
+// A shipped scene at 32 x 32 pixels and `keep` BDPT seed paths of up to `maxDepth` edges drawn from `samples`
+// camera samples with seed `seed`: the states the proposal tests start from.
+struct SeededScene {
+    std::unique_ptr<Scene> scene;
+    PathSpaceSeeds seeds;
+};
+inline SeededScene seededScene(const std::string& name, int maxDepth, uint64_t samples, size_t keep, uint64_t seed) {
+    auto scene = loadScene(shippedScene(name));
+    scene->camera = scene->camera.withResolution(32, 32);
+    PathSettings b;
+    b.maxDepth = maxDepth;
+    auto seeds = seedWithBdpt(*scene, b, samples, keep, seed, 2, nullptr);
+    return {std::move(scene), std::move(seeds)};
 }
 
 // Image mean of a primary-space run.

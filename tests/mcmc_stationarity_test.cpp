@@ -494,7 +494,10 @@ TEST_CASE("path-space chains under a directional light visit a tiny path space i
     const std::vector<double> expected = tabulateSun(*scene->bsdfs[size_t(scene->shapes[0].bsdf)].bsdf);
     // The bidirectional mutation re-samples the glossy vertex on the scene's disk along the direction (Veach's
     // perturbations join to the light vertex, which a directional light's is not: they leave these paths).
-    checkVisits(*scene, expected, {"bidirectional"}, 2, Everywhere, Glossy, 1, 0, 1);
+    // The half-vector mutation holds the direction and moves the glossy vertex across the beam.
+    const auto stats = checkVisits(*scene, expected, {"bidirectional", "bidirectional,hslt:15"}, 2, Everywhere, Glossy,
+                                   1, 0, 1, {"hslt"});
+    CHECK(stats[1].walks.converged > 10000);
 }
 
 TEST_CASE("path-space chains with the portal perturbation visit a tiny path space in proportion to f*",
@@ -840,6 +843,11 @@ TEST_CASE("path-space chains of a sun caustic through a mirror sphere visit a ti
     const auto stats = checkVisits(*scene, expected, {"bidirectional,caustic", "bidirectional,manifold"}, 3, Everywhere,
                                    mc.receiver, 2, 0, 0, {"caustic", "manifold"}, 1, 24576, true);
     CHECK(stats[1].walks.converged > 10000);
+    // The half-vector mutation: the sun's direction and the mirror's h = 0 held, the patch's half vector
+    // drawn, all vertices walked at once (the curved mirror makes |det J| and g vary between states).
+    const auto hslt = checkVisits(*scene, expected, {"bidirectional,hslt:4"}, 3, Everywhere, mc.receiver, 2, 0, 0,
+                                  {"hslt"}, 1, 24576, true);
+    CHECK(hslt[1].walks.converged > 10000);
 }
 
 namespace {

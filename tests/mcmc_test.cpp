@@ -552,17 +552,13 @@ TEST_CASE("lens, caustic, multi-chain perturbations, lens subpath: the density s
         {"cornell-spheres", {"lens", "caustic", "multi-chain", "lens-subpath"}}, {"sun-caustic", {"lens", "caustic"}}};
     for (const auto& [sceneName, names] : cases) {
         INFO(sceneName);
-        auto scene = loadScene(test::shippedScene(sceneName));
-        scene->camera = scene->camera.withResolution(32, 32);
-        PathSettings b;
-        b.maxDepth = 8;
-        const auto seeds = seedWithBdpt(*scene, b, 40000, 6000, 1, 2, nullptr);
+        const auto [scene, seeds] = test::seededScene(sceneName, 8, 40000, 6000, 1);
         std::vector<MarkovPath> paths;
         for (size_t i = 0; i < seeds.paths.size(); ++i)
             if (auto x = stateOf(*scene, seeds.paths[i], i)) paths.push_back(std::move(*x));
         const SensorWindow sensor(scene->camera);
         for (const std::string& name : names) {
-            const auto mutation = makePerturbation(name, *scene, b.maxDepth);
+            const auto mutation = makePerturbation(name, *scene, 8);
             Pcg32 rng(7, 7);
             int suitable = 0, checked = 0, failed = 0, off = 0, balanceOff = 0, specular = 0, fromInfinity = 0;
             double worst = 0, acceptance = 0;

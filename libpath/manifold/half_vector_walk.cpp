@@ -14,8 +14,9 @@ double largestError(const std::vector<Vec2>& values, std::span<const Vec2> targe
     return e;
 }
 
-// The side of v's geometric normal that the point p lies on.
-double side(const ManifoldVertex& v, const Vec3& p) { return dot(p - v.p, v.ng); }
+// The side of v's geometric normal that its neighbour lies on (for a light at infinity, the side its
+// fixed direction points to).
+double side(const ManifoldVertex& v, const ManifoldVertex& neighbour) { return dot(neighbour.seenFrom(v.p), v.ng); }
 
 // The vertex that projection step `step` (1 .. n-2) places in `order`, and the neighbour its ray starts from.
 std::pair<size_t, size_t> projectionStep(size_t n, size_t step, ProjectionOrder order) {
@@ -39,14 +40,19 @@ std::variant<ManifoldChain, WalkFailure> project(const Scene& scene, std::span<c
     const size_t n = X.size();
     for (size_t step = 1; step + 1 < n; ++step) {
         const auto [j, from] = projectionStep(n, step, order);
-        Vec3 dir = predicted[j] - Y[from].p;
-        const double len = length(dir);
+        const Ray ray = rayToward(scene, Y[from], predicted[j]);
+        const double len = length(ray.d);
         if (!(len > 0)) return WalkFailure::Collapsed;
-        dir = dir / len;
-        const auto si = traceSurface(scene, Y[from], dir);
-        if (!si || si->shape != X[j].shape) return si && si->t < len ? WalkFailure::Occluded : WalkFailure::LeftSurface;
+        const Vec3 dir = ray.d / len;
+        ManifoldVertex origin = Y[from];
+        origin.p = ray.o;
+        const auto si = traceSurface(scene, origin, dir);
+        if (!si || si->shape != X[j].shape) {
+            const bool nearer = si && si->t < length(predicted[j] - ray.o);
+            return nearer ? WalkFailure::Occluded : WalkFailure::LeftSurface;
+        }
         // Hit from the side the old segment arrived from.
-        if (dot(dir, si->ng) * dot(X[j].p - X[from].p, X[j].ng) <= 0) return WalkFailure::LeftSurface;
+        if (dot(dir, si->ng) * side(X[j], X[from]) >= 0) return WalkFailure::LeftSurface;
         auto v = manifoldVertex(*si);
         if (!v) return WalkFailure::LeftSurface;
         v->scatter = X[j].scatter;
@@ -55,8 +61,7 @@ std::variant<ManifoldChain, WalkFailure> project(const Scene& scene, std::span<c
         Y[j] = *v;
     }
     for (size_t j = 1; j + 1 < n; ++j)
-        if (side(Y[j], Y[j - 1].p) * side(X[j], X[j - 1].p) <= 0 ||
-            side(Y[j], Y[j + 1].p) * side(X[j], X[j + 1].p) <= 0)
+        if (side(Y[j], Y[j - 1]) * side(X[j], X[j - 1]) <= 0 || side(Y[j], Y[j + 1]) * side(X[j], X[j + 1]) <= 0)
             return WalkFailure::LeftSurface;
     return Y;
 }
@@ -175,7 +180,7 @@ std::optional<JumpPreimage> jumpPreimage(std::span<const ManifoldVertex> from, c
     for (size_t step = 1; step + 1 < n; ++step) {
         const auto [j, prev] = projectionStep(n, step, order);
         const Vec3 d = normalize(to[j].p - to[prev].p);
-        const double t = dot(from[j].p - to[prev].p, from[j].ng) / dot(d, from[j].ng);
+        const double t = planeCrossing(to[prev].p, d, from[j].p, from[j].ng);
         if (!(t > 0) || !std::isfinite(t)) return std::nullopt;
         const Vec3 predicted = to[prev].p + d * t;
         dX[j - 1] = {dot(predicted - from[j].p, from[j].dpdu), dot(predicted - from[j].p, from[j].dpdv)};

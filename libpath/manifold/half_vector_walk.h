@@ -4,7 +4,8 @@
 // machinery's constraint blocks: where walkManifold (ME Sec. 4) moves one endpoint and re-traces the chain
 // from the other, this one predicts all vertices at once, Delta X = J^{-1} (H* - H(X)) with the same
 // block-tridiagonal J (the vertices' chart coordinates, manifold_vertex.h), and projects each predicted
-// point onto the scene by a ray from its already projected neighbour, in the projection order. A
+// point onto the scene by a ray from its already projected neighbour, in the projection order (from a
+// light at infinity, along its fixed direction: manifold_walk.h rayToward). A
 // projection must hit the vertex's own shape from the same side, and every vertex keeps its configuration
 // (each neighbour on the side of the geometric normal it was on: reflection stays reflection). A step that
 // does not reduce the largest constraint error is retried with half the step (beta halving, HSLT Sec. 5.2);
@@ -48,7 +49,8 @@ struct HalfVectorWalkSettings {
                                                const HalfVectorWalkSettings& settings, double relativeTolerance);
 
 // HSLT Sec. 5.2's jump between subspaces (their Fig. 8), for chains whose interior vertices all have a
-// density in area measure (no specular vertex: a jump would not keep h = 0 there). The first prediction of
+// density in area measure (no specular vertex: a jump would not keep h = 0 there) and whose endpoints are
+// points (no light at infinity: the projections and their G factors are rays from points). The first prediction of
 // the walk, x'_j = x_j + (J^{-1} (H* - H(X)))_j on x_j's tangent plane, is projected in `order`: a ray from
 // the already projected neighbour y toward x'_j, and whatever surface it meets first is the new vertex x''_j
 // (any shape, either side: the jump may leave the subspace; the caller evaluates the path). `projection`

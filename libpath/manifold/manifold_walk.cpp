@@ -55,6 +55,11 @@ Vec3 virtualPlaneNormal(const ManifoldVertex& from, const ManifoldVertex& to) {
 
 } // namespace
 
+Ray rayToward(const Scene& scene, const ManifoldVertex& from, const Vec3& toward) {
+    if (from.atInfinity) return {scene.sceneDisk().beyond(toward, from.n), -from.n};
+    return {from.p, toward - from.p};
+}
+
 std::optional<SurfaceInteraction> traceSurface(const Scene& scene, const ManifoldVertex& from, const Vec3& dir) {
     const auto hit = scene.intersectHit(spawnRay(from.endpoint(), dir));
     if (!hit) return std::nullopt;
@@ -100,10 +105,10 @@ PropagateResult propagateChain(const Scene& scene, std::span<const ManifoldVerte
     PropagateResult r;
     r.chain.reserve(X.size());
     r.chain.push_back(X.front());
-    // From a vertex at infinity the ray keeps its direction and comes from beyond the scene through `toward`.
+    const Ray first = rayToward(scene, X.front(), toward);
     ManifoldVertex origin = X.front();
-    if (origin.atInfinity) origin.p = scene.sceneDisk().beyond(toward, origin.n);
-    Vec3 dir = origin.atInfinity ? -origin.n : normalize(toward - origin.p);
+    origin.p = first.o;
+    Vec3 dir = normalize(first.d);
     for (size_t j = 1; j + 1 < X.size(); ++j) {
         const ManifoldVertex& prev = j == 1 ? origin : r.chain.back();
         const ManifoldVertex& old = X[j];
@@ -127,7 +132,7 @@ PropagateResult propagateChain(const Scene& scene, std::span<const ManifoldVerte
     // The last segment ends on the virtual plane, not on the scene (from `origin` if it is the first).
     const ManifoldVertex& prev = r.chain.size() == 1 ? origin : r.chain.back();
     const double cosPlane = dot(dir, plane.n);
-    const double t = dot(plane.p - prev.p, plane.n) / cosPlane;
+    const double t = planeCrossing(prev.p, dir, plane.p, plane.n);
     if (!(std::abs(cosPlane) > 1e-9) || !(t > 0) || !std::isfinite(t)) return {WalkFailure::LeftSurface, {}};
     ManifoldVertex last = plane;
     last.p = prev.p + dir * t;

@@ -56,6 +56,11 @@ struct WalkResult {
                                       const ManifoldVertex& target, WalkEnd moving = WalkEnd::Last,
                                       const WalkSettings& settings = {});
 
+// The ray from chain vertex `from` toward the point `toward` (direction not normalized). From a light vertex at
+// infinity it keeps the light's fixed direction and comes from beyond the scene through `toward` (the
+// directional constraint, HSLT Sec. 4.5 after Jakob 2013 p. 70): what moves is where the beam meets x_1.
+[[nodiscard]] Ray rayToward(const Scene& scene, const ManifoldVertex& from, const Vec3& toward);
+
 // The first surface along from -> dir (dir unit), its hit refined in double precision from the exact
 // origin: Embree intersects in float from an offset origin, while walks need ~1e-7 relative accuracy (ME
 // section 4). The ray is intersected with the hit triangle's plane, or the analytic shape again. The

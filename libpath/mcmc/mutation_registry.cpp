@@ -90,7 +90,7 @@ const MutationKind Kinds[] = {
      needsSpecularOrGlossyChains},
     {"hslt", "mutation",
      "half-vector space light transport: new half vectors at every non-specular vertex at once, the light point "
-     "and camera kept (glossy interreflections)",
+     "or direction and the camera kept (glossy interreflections)",
      [](const Scene& s, const MutationSettings& m) -> std::unique_ptr<Mutation> {
          return std::make_unique<HalfVectorMutation>(s, m.hsltGamma, m.hsltStratify, m.hsltJumps);
      },

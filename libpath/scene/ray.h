@@ -13,6 +13,12 @@ struct Ray {
     double tmax = std::numeric_limits<double>::infinity();
 };
 
+// The parameter t at which the line o + t d meets the plane through p with normal n (any sign; not finite
+// when the line runs parallel to the plane). The one ray-plane intersection of the walks and their kernels.
+[[nodiscard]] inline double planeCrossing(const Vec3& o, const Vec3& d, const Vec3& p, const Vec3& n) {
+    return dot(p - o, n) / dot(d, n);
+}
+
 // Where a ray leaves from or ends: a position, its geometric normal (zero for points not on a surface,
 // such as a pinhole or a point light), and the magnitude (largest absolute coordinate) of the primitive
 // it lies on, which bounds the float error of Embree's intersection test there.

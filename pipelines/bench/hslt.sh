@@ -5,7 +5,7 @@
 # veach-bidir (whole frame against the scene's reference) and on glossy-rings (against a long BDPT
 # reference made here first when OUT has none: REF_TIME seconds, default 900). Then on glossy-rings, SWEEP
 # seconds each (default 30): HSLT's gamma (0.03, 0.1, 0.3, 1) and its image-plane stratification off
-# (--hslt-stratify 0) against on (0.02). SCENES="glossy-rings" runs only those.
+# (--hslt-stratify 0) against on (0.02); SWEEP=0 leaves the sweep out. SCENES="glossy-rings" runs only those.
 #   [REF_TIME=S] [SWEEP=S] pipelines/bench/hslt.sh [SECONDS] [OUT]   (default 60 s, bench-hslt)
 # With AUTO=1, only the question whether `auto` should take hslt, SECONDS each on every scene of SCENES:
 # auto's own mix (mlt) against the same mix with hslt added, and on glossy-rings HSLT's jumps on and off
@@ -65,6 +65,7 @@ for scene in ${SCENES:-veach-mis glossy-rings veach-bidir}; do
 done
 
 # gamma and stratification on glossy-rings: relMSE after the same time.
+[ "${SWEEP:-30}" = 0 ] && exit 0
 sweep="$out/sweep"
 mkdir -p "$sweep"
 ref="$(reference glossy-rings)"

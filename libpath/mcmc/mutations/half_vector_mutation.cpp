@@ -54,7 +54,7 @@ HalfVectorMutation::HalfVectorMutation(const Scene& scene, double gamma, double 
 }
 
 bool HalfVectorMutation::suitable(const MarkovPath& x) const {
-    if (x.v.size() < 3 || x.v[0].infinite) return false;
+    if (x.v.size() < 3) return false;
     for (size_t i = 1; i + 1 < x.v.size(); ++i)
         if (!isSpecular(x.v[i])) return true;
     return false;
@@ -97,7 +97,7 @@ std::vector<Gaussian2> HalfVectorMutation::kernels(const MarkovPath& path, const
         const auto& film = scene_.camera.film();
         const auto onPlane = [&](const Vec2& raster) -> std::optional<Vec3> {
             const Ray r = scene_.camera.generateRay(raster);
-            const double t = dot(last.p - r.o, last.ng) / dot(r.d, last.ng);
+            const double t = planeCrossing(r.o, r.d, last.p, last.ng);
             if (!std::isfinite(t)) return std::nullopt;
             return r.o + r.d * t;
         };
@@ -135,19 +135,23 @@ std::vector<Gaussian2> HalfVectorMutation::kernels(const MarkovPath& path, const
 double HalfVectorMutation::transitionDensity(const MarkovPath& from, const MarkovPath& to) const {
     const auto a = state(from), b = state(to);
     if (!a || !b) return 0;
-    const double g = halfVectorFactor(to, *b);
-    if (!(g > 0)) return 0;
-    const auto K = kernels(from, *a);
+    return kernelTransition(from, *a, kernels(from, *a), *b, halfVectorFactor(to, *b));
+}
+
+double HalfVectorMutation::kernelTransition(const MarkovPath& from, const State& a, const std::vector<Gaussian2>& K,
+                                            const State& b, double gTo) {
+    if (!(gTo > 0)) return 0;
     double T = 1;
     for (size_t i = 0; i < K.size(); ++i)
-        if (!isSpecular(from.v[i + 1])) T *= K[i].density(a->J.values[i], b->J.values[i]);
-    const double t = T / g;
+        if (!isSpecular(from.v[i + 1])) T *= K[i].density(a.J.values[i], b.J.values[i]);
+    const double t = T / gTo;
     return std::isfinite(t) ? t : 0.0;
 }
 
 bool HalfVectorMutation::jumpable(const MarkovPath& x) const {
     for (size_t i = 1; i + 1 < x.v.size(); ++i)
         if (isSpecular(x.v[i]) || !x.v[i].bsdf) return false;
+    // A jump's projections and their density (jumpSubspace's G(y, x'') / G(y, x')) are rays from points.
     return x.v.size() >= 3 && !x.v[0].infinite;
 }
 
@@ -248,18 +252,21 @@ void HalfVectorMutation::propose(const MarkovPath& x, Pcg32& rng, Proposal& out)
     }
     for (size_t j = 1; j + 1 < walked.chain.size(); ++j)
         moveVertex(scene_, walked.chain[j], out.y.v[j]);
-    // 4. Visibility and f~ of the proposal; 5. T both ways from the two states.
+    // A light at infinity keeps its direction; its stored point follows x_1 (path/vertex.h environmentVertex).
+    if (out.y.v[0].infinite) out.y.v[0].si.p = scene_.sceneDisk().beyond(out.y.v[1].p(), -out.y.v[0].si.ng);
+    // 4. Visibility and f~ of the proposal; 5. T both ways from the two states (each built once).
     if (!evaluateProposal(scene_, x, out)) return;
-    const double forward = transitionDensity(x, out.y);
     const auto sy = state(out.y);
     const double gy = sy ? halfVectorFactor(out.y, *sy) : 0.0;
+    const double forward = sy ? kernelTransition(x, *sx, K, *sy, gy) : 0.0;
     if (!(forward > 0) || !(gy > 0)) {
         // J or a C block singular at y, a grazing G, or a kernel density that underflowed: no density.
         out.walk->failure = WalkFailure::Singular;
         out.failed = RejectCause::WalkFailed;
         return;
     }
-    setTransitionDensities(out, x, sampled / gy, forward, transitionDensity(out.y, x));
+    const double reverse = kernelTransition(out.y, *sy, kernels(out.y, *sy), *sx, halfVectorFactor(x, *sx));
+    setTransitionDensities(out, x, sampled / gy, forward, reverse);
 }
 
 } // namespace lt

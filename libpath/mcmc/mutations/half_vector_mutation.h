@@ -2,9 +2,9 @@
 // representation of the path space for efficient light transport simulation"): within the subspace of
 // paths through the same surfaces in the same configuration, a path x_0 .. x_k is (x_0, h_1, .., h_{k-1},
 // x_k), h_i the projected generalized half vector c_i = T(x_i)^T h_i of manifold/specular_constraint.h
-// (HSLT Eq. 11). The mutation keeps both endpoints (the light point and the camera), draws a new h_i at
-// every interior vertex that is not specular (specular ones keep h = 0 exactly, Sec. 4.4), finds the
-// vertices with those half vectors (manifold/half_vector_walk.h: all vertices predicted at once by J^{-1}
+// (HSLT Eq. 11). The mutation keeps both endpoints (the light point or direction, and the camera), draws a
+// new h_i at every interior vertex that is not specular (specular ones keep h = 0 exactly, Sec. 4.4), finds
+// the vertices with those half vectors (manifold/half_vector_walk.h: all vertices predicted at once by J^{-1}
 // and projected by ray casting, the projection order by the heuristic of Sec. 5.1), checks that the walk
 // back reaches the state (Sec. 5.2), and accepts with the densities of both states. Always mixed with
 // the bidirectional mutation, which changes lengths and configurations (Sec. 5.1).
@@ -60,8 +60,10 @@ public:
     HalfVectorMutation(const Scene& scene, double gamma = 0.1, double stratify = 0.02, bool jumps = true);
 
     [[nodiscard]] std::string name() const override { return "hslt"; }
-    // At least one non-specular interior vertex, and no vertex at infinity (the projections trace from
-    // the endpoints' positions; a direction end is not carried through them yet).
+    // At least one non-specular interior vertex. A light vertex at infinity (environment, directional
+    // light) is an endpoint held like the others: its direction stays, x_1 moves across its beam
+    // (manifold_walk.h rayToward), and the densities need nothing else (f_H = f~ g above holds for any
+    // fixed endpoints; the infinite end's distance gives no derivative, specular_constraint.cpp).
     [[nodiscard]] bool suitable(const MarkovPath& x) const override;
     void propose(const MarkovPath& x, Pcg32& rng, Proposal& out) const override;
 
@@ -81,13 +83,17 @@ public:
     [[nodiscard]] double transitionDensity(const MarkovPath& from, const MarkovPath& to) const;
     // The walks' tolerance on |c - c*| for a state: from its materials alone (half_vector_mutation.cpp).
     [[nodiscard]] double walkTolerance(const MarkovPath& path) const;
-    // A state the jump of HSLT Sec. 5.2 can leave and reach: no specular interior vertex, every one with a BSDF.
+    // A state the jump of HSLT Sec. 5.2 can leave and reach: no specular interior vertex, every one with a BSDF,
+    // and no light vertex at infinity.
     [[nodiscard]] bool jumpable(const MarkovPath& x) const;
     // T(from -> to) of the jump (area measure, header comment), s and `to` the two states; 0 when `to` is
     // not a jump of `from`'s: no preimage, or `from`'s regular walk toward it converges.
     [[nodiscard]] double jumpDensity(const MarkovPath& from, const State& s, const State& to) const;
 
 private:
+    // T~ of transitionDensity from the states of both paths, the kernels at `from` and g(to).
+    [[nodiscard]] static double kernelTransition(const MarkovPath& from, const State& a,
+                                                 const std::vector<Gaussian2>& K, const State& b, double gTo);
     // After the regular walk toward `target` failed: the jump, proposed when valid (out.failed cleared).
     void proposeJump(const MarkovPath& x, const State& sx, const std::vector<Vec2>& target, double sampled,
                      ProjectionOrder order, Proposal& out) const;

@@ -42,9 +42,9 @@ int main(int argc, char** argv) {
     app.add_option("--spp", spp,
                    "samples per pixel: base paths per pixel (default: the scene's sampleCount; with --time, an upper "
                    "bound)")
-        ->check(CLI::PositiveNumber);
+        ->check(lt::tool::PositiveNumber);
     app.add_option("--time", timeLimit, "render for this many seconds (at least one pass over the image; gpt ends at the end of a pass, gdpr after the tile under way)")
-        ->check(CLI::PositiveNumber);
+        ->check(lt::tool::PositiveNumber);
     app.add_option("--tile", gs.tile,
                    "gdpr: tile size T; every base path is reused by the (T+1) x (T+1) pixels around its tile (default "
                    "6, the paper's; 6 to 8 are the most efficient there)")
@@ -53,18 +53,18 @@ int main(int argc, char** argv) {
                    "longest path in edges, Mitsuba's meaning (default: the scene's integrator maxDepth; -1 unbounded)");
     app.add_option("--rr-depth", rrDepth,
                    "edges after which base paths continue by Russian roulette (default: the scene's)")
-        ->check(CLI::PositiveNumber);
+        ->check(lt::tool::PositiveNumber);
     app.add_option(
            "--shift-threshold", gs.shiftThreshold,
            "Beckmann roughness at or below which a vertex is followed by its half vector instead of reconnected "
            "(default 0.001, as the public G-PT code)")
-        ->check(CLI::NonNegativeNumber);
+        ->check(lt::tool::NonNegativeNumber);
     app.add_option("--rr-delta", gs.rrDelta,
                    "gdpr: base paths survive with probability min(1, max(q_min, luminance / delta)) (default 0.1)")
-        ->check(CLI::PositiveNumber);
+        ->check(lt::tool::PositiveNumber);
     app.add_option("--rr-min", gs.rrMin, "gdpr: q_min, the least survival probability (default 0.1; 0 is biased)")
         ->check(CLI::Range(0.0, 1.0));
-    app.add_option("--threads", threads, "worker threads (default: all cores)")->check(CLI::NonNegativeNumber);
+    app.add_option("--threads", threads, "worker threads (default: all cores)")->check(lt::tool::ThreadCount);
     app.add_option("--seed", seed, "random seed (default 0)");
     app.add_option("--resolution", resolution, "film size WxH, overriding the scene's (keeps the horizontal fov)");
     app.add_option("--snapshots", snapshotTimes,

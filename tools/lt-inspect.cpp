@@ -454,7 +454,7 @@ int main(int argc, char** argv) {
     lt::tool::addStrictFlag(app, strict);
     app.add_flag("--paths", paths, "paths file: print the vertex table of the first --limit paths");
     app.add_option("--limit", limit, "paths to show with --paths (default 10) or to write with --obj (default 10000)")
-        ->check(CLI::PositiveNumber);
+        ->check(lt::tool::PositiveNumber);
     app.add_option("--obj", objOut, "paths file: write the paths as OBJ polylines (light to eye), one object each");
     app.add_flag("--histogram", histogram, "paths file: show path length and technique histograms as bars");
     app.add_flag("--manifold", manifold,

@@ -62,7 +62,7 @@ int main(int argc, char** argv) {
     app.add_option("--lambda", lambda,
                    "manifold perturbation: the direction lobe's peak as lambda^2 times the BSDF's sampling density "
                    "(default 50; Jakob & Marschner suggest 50-500: larger takes smaller steps)")
-        ->check(CLI::PositiveNumber);
+        ->check(lt::tool::PositiveNumber);
     app.add_option("--hslt-gamma", hsltGamma,
                    "half-vector mutation: its step at each vertex as gamma times the Beckmann lobe's standard "
                    "deviation (default 0.1, HSLT's value for all its images; in (0, 1])")
@@ -81,27 +81,27 @@ int main(int argc, char** argv) {
                    "(default 0.00390625,0.0625: 2^-8 and 2^-4, Otsu et al.'s values)")
         ->expected(2)
         ->delimiter(',');
-    app.add_option("--mutations", mutations, "total mutations over all chains")->check(CLI::PositiveNumber);
+    app.add_option("--mutations", mutations, "total mutations over all chains")->check(lt::tool::PositiveNumber);
     app.add_option("--mutations-per-pixel", mutationsPerPixel, "total mutations as a multiple of the pixel count")
-        ->check(CLI::PositiveNumber);
-    app.add_option("--time", timeLimit, "run for this many seconds, start-up included")->check(CLI::PositiveNumber);
+        ->check(lt::tool::PositiveNumber);
+    app.add_option("--time", timeLimit, "run for this many seconds, start-up included")->check(lt::tool::PositiveNumber);
     app.add_option("--chains", chains, "independent chains (default 256, whatever the thread count)")
-        ->check(CLI::PositiveNumber);
-    app.add_option("--threads", threads, "worker threads (default: all cores)")->check(CLI::NonNegativeNumber);
+        ->check(lt::tool::PositiveNumber);
+    app.add_option("--threads", threads, "worker threads (default: all cores)")->check(lt::tool::ThreadCount);
     app.add_option("--seed", seed, "random seed (default 0)");
     app.add_option("--max-depth", maxDepth,
                    "longest path in edges, Mitsuba's meaning (default: the scene's "
                    "integrator maxDepth)");
     app.add_option("--max-length-unbounded", unbounded,
                    "multiplexed: the path-length bound used when the max depth is -1 (default 12)")
-        ->check(CLI::PositiveNumber);
+        ->check(lt::tool::PositiveNumber);
     app.add_option("--large-step", largeStep, "probability of a large step (default 0.3, Mitsuba's)")
         ->check(CLI::Range(0.0, 1.0));
     app.add_option("--startup-samples", startupSamples,
                    "independent samples that first estimate b and seed the chains (default 100000; multiplexed: per "
                    "path length on average, default 20000, spread in inverse proportion to the length so that "
                    "each length gets the same work; path space without a seed file: BDPT samples)")
-        ->check(CLI::PositiveNumber);
+        ->check(lt::tool::PositiveNumber);
     app.add_option("--refine-b", refineB,
                    "path space: independent BDPT samples per mutation that keep refining b during the run (default "
                    "0.0625, one per 16 mutations of a chain; 0 keeps the seed run's b). The primary spaces refine b "
@@ -110,7 +110,7 @@ int main(int argc, char** argv) {
     app.add_option("--round", round,
                    "mutations per chain between merges (default 64; sets the granularity of "
                    "snapshots, not the estimate)")
-        ->check(CLI::PositiveNumber);
+        ->check(lt::tool::PositiveNumber);
     app.add_option("--resolution", resolution, "film size WxH, overriding the scene's (keeps the horizontal fov)");
     app.add_option("--snapshots", snapshotTimes,
                    "write progress snapshots for lt-error: 'doubling', 'doubling:START' or seconds '5,10,30'");
@@ -120,7 +120,7 @@ int main(int argc, char** argv) {
                    "path space: write every K-th state of every chain to a paths file (.ltp, or - for stdout) for "
                    "trace plots and lt-inspect; rngStream = chain, rngOffset = mutation");
     app.add_option("--dump-every", dumpEvery, "with --dump-paths: K (mutations of a chain between dumped states)")
-        ->check(CLI::PositiveNumber);
+        ->check(lt::tool::PositiveNumber);
     app.add_option("-D,--define", defines, "scene parameter NAME=VALUE, overriding the scene's <default>")
         ->type_name("NAME=VALUE");
     bool strict = false;

@@ -103,14 +103,14 @@ int main(int argc, char** argv) {
         ->check(CLI::IsMember({"l1", "l2"}));
     app.add_option("--alpha", settings.alpha, "weight of the primal residual (default 0.2); must be > 0");
     app.add_option("--iterations", settings.irlsIterations, "L1: reweighting (IRLS) steps (default 20)")
-        ->check(CLI::PositiveNumber);
+        ->check(lt::tool::PositiveNumber);
     app.add_option("--irls-reg", settings.irlsRegularizer,
                    "L1: initial regularizer reg0 of the weights 1 / (|e| + reg) (default 0.05)");
     app.add_option("--irls-decay", settings.irlsDecay, "L1: factor on the regularizer per step (default 0.5)");
     app.add_option("--max-solver-iterations", settings.maxLinearIterations,
                    "most CG iterations per linear solve with cgnr, eigen-cg or dct's L1 steps (default 500 for L2; "
                    "per L1 step 50 with cgnr, 10 with eigen-cg, 3 with dct)")
-        ->check(CLI::NonNegativeNumber);
+        ->check(lt::tool::NonNegativeNumber);
     app.add_option("--solver", solverText,
                    "linear solver: cholesky (Ceres's sparse normal Cholesky: exact, but memory and time grow "
                    "fast), cgnr (Ceres's conjugate gradients: ~20x slower than eigen-cg at 1280x720, from Ceres's "
@@ -123,7 +123,7 @@ int main(int argc, char** argv) {
         ->check(CLI::IsMember({"auto", "cholesky", "cgnr", "eigen-cg", "dct"}));
     app.add_option("--threads", threads,
                    "threads for Ceres, and for eigen-cg's and dct's channels (default: all cores)")
-        ->check(CLI::NonNegativeNumber);
+        ->check(lt::tool::ThreadCount);
     app.add_flag("-q,--quiet", quiet, "no progress or statistics output");
     return lt::tool::run(app, argc, argv, [&] {
         if (input.empty() == primalPath.empty())

@@ -35,29 +35,29 @@ int main(int argc, char** argv) {
     app.add_option("-o,--output", out, "output sample buffer (.lts), or - for stdout")->required();
     app.add_option("--method", method, "bdpt (default) or pt")->check(CLI::IsMember({"bdpt", "pt"}));
     app.add_option("--spp", spp, "samples per pixel (default: the scene's sampleCount; with --time, an upper bound)")
-        ->check(CLI::PositiveNumber);
+        ->check(lt::tool::PositiveNumber);
     app.add_option("--time", timeLimit, "render for this many seconds (at least one pass over the image; the last pass may cover part of it, except with --paths, whose normalization needs whole passes)")
-        ->check(CLI::PositiveNumber);
+        ->check(lt::tool::PositiveNumber);
     app.add_option("--max-depth", maxDepth,
                    "longest path in edges, Mitsuba's meaning: 1 = emitters seen directly, "
                    "-1 = unbounded (default: the scene's integrator maxDepth)");
     app.add_option("--rr-depth", rrDepth, "edges after which Russian roulette starts (default: the scene's rrDepth)")
-        ->check(CLI::PositiveNumber);
+        ->check(lt::tool::PositiveNumber);
     app.add_option("--mis", mis, "MIS heuristic: power (default) or balance")
         ->check(CLI::IsMember({"power", "balance"}));
-    app.add_option("--threads", threads, "worker threads (default: all cores)")->check(CLI::NonNegativeNumber);
+    app.add_option("--threads", threads, "worker threads (default: all cores)")->check(lt::tool::ThreadCount);
     app.add_option("--seed", seed, "random seed (default 0)");
     app.add_option("--resolution", resolution, "film size WxH, overriding the scene's (keeps the horizontal fov)");
     app.add_option("--paths", pathsOut, "also write candidate seed paths (.ltp), or - for stdout");
     app.add_option("--max-paths", maxPaths,
                    "seed paths to keep: independent draws in proportion to weight (default 100000)")
-        ->check(CLI::PositiveNumber);
+        ->check(lt::tool::PositiveNumber);
     app.add_option("--snapshots", snapshotTimes,
                    "write progress snapshots (SNAP chunks, for lt-error): 'doubling' (1, 2, 4 ... s), "
                    "'doubling:START', or a list of seconds '5,10,30'; taken at the end of a pass over the image");
     app.add_option("--snapshot-samples", snapshotSamples, "write snapshots at these samples per pixel, e.g. '1,4,16'");
     app.add_option("--tile", tile, "tile size in pixels (default 32; changes the sample order, not the estimate)")
-        ->check(CLI::PositiveNumber);
+        ->check(lt::tool::PositiveNumber);
     app.add_option("-D,--define", defines, "scene parameter NAME=VALUE, overriding the scene's <default>")
         ->type_name("NAME=VALUE");
     bool strict = false;

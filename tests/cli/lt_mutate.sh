@@ -64,7 +64,7 @@ out=$("$bin/lt-mutate" "$scene" --time 1 --strategies bidirectional,manifold --l
 check "--lambda 0 refused" '[ $code -ne 0 ] && echo "$out" | grep -q lambda'
 out=$("$bin/lt-mutate" "$scene" --time 1 --strategies bidirectional,manifold --lambda nan -o "$tmp/x.lts" 2>&1); code=$?
 check "--lambda nan refused before any work, in one line" \
-    '[ $code -ne 0 ] && [ "$(echo "$out" | wc -l)" -eq 1 ] && echo "$out" | grep -q "lambda must be a positive number"'
+    '[ $code -ne 0 ] && [ "$(echo "$out" | wc -l)" -eq 1 ] && echo "$out" | grep -q "lambda: must be a positive number, got nan"'
 out=$("$bin/lt-mutate" "$scene" --time 1 --space primary --lambda 10 -o "$tmp/x.lts" 2>&1); code=$?
 check "--lambda with a primary space refused" '[ $code -ne 0 ] && echo "$out" | grep -q "lambda is for --space path"'
 out=$("$bin/lt-mutate" "$src/tests/cli/nope.xml" --time 1 -o "$tmp/x.lts" 2>&1); code=$?

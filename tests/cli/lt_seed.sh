@@ -74,8 +74,14 @@ out=$("$bin/lt-seed" "$tmp/box.xml" -o "$tmp/no/such/dir/x.lts" 2>&1); code=$?
 check "unwritable output: non-zero exit, names the file" '[ $code -ne 0 ] && echo "$out" | grep -q "no/such/dir"'
 out=$("$bin/lt-seed" "$tmp/box.xml" -o "$tmp/x.lts" --resolution 12by5 2>&1); code=$?
 check "bad --resolution: non-zero exit, one line" '[ $code -ne 0 ] && [ "$(echo "$out" | wc -l)" -eq 1 ]'
-"$bin/lt-seed" "$tmp/box.xml" -o "$tmp/x.lts" --spp -3 >/dev/null 2>&1; code=$?
-check "negative --spp refused" '[ $code -ne 0 ]'
+out=$("$bin/lt-seed" "$tmp/box.xml" -o "$tmp/x.lts" --spp -3 2>&1); code=$?
+check "negative --spp refused, saying why in words (not CLI11's range written out in 309 digits)" \
+  '[ $code -ne 0 ] && [ "$out" = "lt-seed: error: --spp: must be a positive number, got -3 (--help lists the options)" ]'
+out=$("$bin/lt-seed" "$tmp/box.xml" -o "$tmp/x.lts" --threads 100000 2>&1); code=$?
+check "--threads beyond any machine refused" \
+  '[ $code -ne 0 ] && [ "$out" = "lt-seed: error: --threads: must be a whole number from 0 (all cores) to 1024, got 100000 (--help lists the options)" ]'
+out=$("$bin/lt-seed" "$tmp/box.xml" -o "$tmp/x.lts" --threads=-1 2>&1); code=$?
+check "--threads -1 refused" '[ $code -ne 0 ] && [ "$(echo "$out" | wc -l)" -eq 1 ] && echo "$out" | grep -q "^lt-seed: error: --threads: must be a whole number"'
 check "no output left behind by failed runs" '[ ! -e "$tmp/x.lts" ]'
 "$bin/lt-seed" "$tmp/box.xml" -o "$tmp/r.lts" --resolution 8x6 --method pt -q
 check "--resolution and --method pt" '[ "$(tail -c 16 "$tmp/r.lts" | head -c 4)" = "END!" ]'

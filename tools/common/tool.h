@@ -65,7 +65,7 @@ inline const CLI::Validator NonNegativeNumber =
 // --threads: 0 means all cores; more than MaxThreads workers is a typo, not a machine.
 inline constexpr int MaxThreads = 1024;
 inline const CLI::Validator ThreadCount = detail::numberCheck(
-    "0..1024", [](double v) { return v >= 0 && v <= MaxThreads && v == std::floor(v); },
+    "0.." + std::to_string(MaxThreads), [](double v) { return v >= 0 && v <= MaxThreads && v == std::floor(v); },
     "must be a whole number from 0 (all cores) to " + std::to_string(MaxThreads));
 
 } // namespace lt::tool

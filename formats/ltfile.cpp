@@ -33,6 +33,10 @@ constexpr size_t kChunkHeaderSize = 12;  // tag, length
 constexpr size_t kCrcSize = 4;
 constexpr size_t kPathHeaderSize = 68;   // SPEC.md "PATH"
 constexpr size_t kVertexSize = 104;
+constexpr size_t kRoundHeaderSize = 44; // SPEC.md "CHST"
+constexpr size_t kStateHeaderSize = 38;
+constexpr size_t kStateLightVertexSize = 64;
+constexpr size_t kStateSurfaceVertexSize = 25;
 // Far above any real chunk (a 8192 x 8192 buffer with 64 planes is 16 GiB) yet below what a damaged
 // high bit of the length declares; beyond this a chunk is called damaged without reading it.
 constexpr uint64_t kMaxChunkLength = uint64_t(1) << 36;
@@ -41,8 +45,8 @@ constexpr uint64_t kMaxInfoLength = uint64_t(1) << 24;
 // no more memory than the data that is really there.
 constexpr size_t kFirstReadPiece = size_t(1) << 20;
 
-constexpr std::string_view kInfo = "INFO", kPath = "PATH", kBufr = "BUFR", kSnap = "SNAP", kStat = "STAT",
-                           kEnd = "END!";
+constexpr std::string_view kInfo = "INFO", kPath = "PATH", kChst = "CHST", kBufr = "BUFR", kSnap = "SNAP",
+                           kStat = "STAT", kEnd = "END!";
 
 enum class CombineCode : uint32_t { WeightedMean = 1, Sum = 2 };
 
@@ -89,15 +93,24 @@ std::string printableTag(std::string_view tag) {
 
 class Encoder {
 public:
+    Encoder() = default;
+    // Appends to `out` instead of a string of its own.
+    explicit Encoder(std::string& out) : out_(&out) {}
+    Encoder(const Encoder&) = delete;
+    Encoder& operator=(const Encoder&) = delete;
+
     template <class T> void put(T value) {
         if constexpr (std::is_floating_point_v<T>) {
             using Bits = std::conditional_t<sizeof(T) == 4, uint32_t, uint64_t>;
             put(std::bit_cast<Bits>(value));
         } else if constexpr (std::is_enum_v<T>) {
             put(static_cast<std::underlying_type_t<T>>(value));
+        } else if constexpr (std::endian::native == std::endian::little) {
+            out_->append(reinterpret_cast<const char*>(&value), sizeof(T));
         } else {
             const auto bits = static_cast<std::make_unsigned_t<T>>(value);
-            for (size_t i = 0; i < sizeof(T); ++i) bytes_ += static_cast<char>(bits >> (8 * i));
+            for (size_t i = 0; i < sizeof(T); ++i)
+                *out_ += static_cast<char>(bits >> (8 * i));
         }
     }
     template <class T, size_t N> void put(const std::array<T, N>& values) {
@@ -105,19 +118,20 @@ public:
     }
     void putString(const std::string& s) {
         put(static_cast<uint32_t>(s.size()));
-        bytes_ += s;
+        *out_ += s;
     }
     template <class T> void putArray(const std::vector<T>& values) {
         if constexpr (std::endian::native == std::endian::little) {
-            bytes_.append(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
+            out_->append(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
         } else {
             for (const T& v : values) put(v);
         }
     }
-    [[nodiscard]] const std::string& bytes() const { return bytes_; }
+    [[nodiscard]] const std::string& bytes() const { return *out_; }
 
 private:
-    std::string bytes_;
+    std::string own_;
+    std::string* out_ = &own_;
 };
 
 void encodePaths(Encoder& e, std::span<const PathRecord> paths, const std::string& file) {
@@ -153,6 +167,43 @@ void encodePaths(Encoder& e, std::span<const PathRecord> paths, const std::strin
             e.put(v.pdfRev);
         }
     }
+}
+
+// Only what re-creates a chain state's vertices (records.h ChainState): the light vertex, then the
+// surface vertices; the camera vertex is implied.
+void encodeChainState(Encoder& e, const ChainState& s) {
+    if (s.vertices.size() < 2 || s.vertices.size() > UINT16_MAX)
+        throw Error("a chain state with " + std::to_string(s.vertices.size()) + " vertices");
+    e.put(s.chain);
+    e.put(s.credit);
+    e.put(s.raster);
+    e.put(s.f);
+    e.put(s.target);
+    e.put(static_cast<uint16_t>(s.vertices.size()));
+    const VertexRecord& l = s.vertices.front();
+    e.put(l.light);
+    e.put(l.shape);
+    e.put(l.prim);
+    e.put(l.coords);
+    e.put(l.p);
+    e.put(l.ng);
+    for (size_t i = 1; i + 1 < s.vertices.size(); ++i) {
+        const VertexRecord& v = s.vertices[i];
+        e.put(v.lobe);
+        e.put(v.shape);
+        e.put(v.prim);
+        e.put(v.coords);
+    }
+}
+
+void encodeRoundHeader(Encoder& e, const ChainRound& r, uint64_t states, const std::string& file) {
+    if (states > UINT32_MAX) throw Error(file + ": more than 2^32-1 chain states in one round");
+    e.put(r.mutations);
+    e.put(r.b);
+    e.put(r.bSamples);
+    e.put(r.wallSeconds);
+    e.put(r.cpuSeconds);
+    e.put(static_cast<uint32_t>(states));
 }
 
 void encodeBuffer(Encoder& e, const Buffer& b, const std::string& file) {
@@ -314,6 +365,49 @@ std::vector<PathRecord> decodePaths(Decoder& d) {
     return paths;
 }
 
+ChainRound decodeChainRound(Decoder& d) {
+    ChainRound r;
+    d.need(1, kRoundHeaderSize, "the round's figures");
+    r.mutations = d.get<uint64_t>();
+    r.b = d.get<double>();
+    r.bSamples = d.get<uint64_t>();
+    r.wallSeconds = d.get<double>();
+    r.cpuSeconds = d.get<double>();
+    const uint32_t count = d.get<uint32_t>();
+    d.need(count, kStateHeaderSize + kStateLightVertexSize, "the chain states");
+    r.states.resize(count);
+    for (ChainState& s : r.states) {
+        s.chain = d.get<uint32_t>();
+        s.credit = d.get<double>();
+        d.get(s.raster);
+        d.get(s.f);
+        s.target = d.get<float>();
+        const uint16_t vertices = d.get<uint16_t>();
+        if (vertices < 2) throw PayloadError("a chain state with " + std::to_string(vertices) + " vertices");
+        s.vertices.resize(vertices);
+        VertexRecord& l = s.vertices.front();
+        l.kind = VertexKind::Light;
+        l.light = d.get<int32_t>();
+        l.shape = d.get<int32_t>();
+        l.prim = d.get<uint32_t>();
+        d.get(l.coords);
+        d.get(l.p);
+        d.get(l.ng);
+        d.need(vertices - 2u, kStateSurfaceVertexSize, "the vertices");
+        for (size_t i = 1; i + 1 < s.vertices.size(); ++i) {
+            VertexRecord& v = s.vertices[i];
+            v.kind = VertexKind::Surface;
+            v.lobe = d.get<uint8_t>();
+            v.shape = d.get<int32_t>();
+            v.prim = d.get<uint32_t>();
+            d.get(v.coords);
+        }
+        s.vertices.back().kind = VertexKind::Camera;
+    }
+    d.expectEnd();
+    return r;
+}
+
 // A buffer runs to the end of its payload (BUFR, or SNAP after the snapshot's header).
 Buffer decodeBuffer(Decoder& d) {
     Buffer b;
@@ -404,18 +498,30 @@ struct Writer::Impl {
     }
 
     void writeChunk(std::string_view tag, const std::string& payload) {
+        const std::string_view pieces[] = {payload};
+        writeChunk(tag, pieces);
+    }
+    // A chunk whose payload is the pieces one after another.
+    void writeChunk(std::string_view tag, std::span<const std::string_view> payload) {
         if (finished) throw Error(name + ": write after finish()");
         if (failed) throw Error(name + ": cannot write after an earlier write failed");
-        if (payload.size() > kMaxChunkLength)
-            throw Error(name + ": a " + std::string(tag) + " chunk of " + std::to_string(payload.size()) +
+        uint64_t length = 0;
+        for (const auto& p : payload)
+            length += p.size();
+        if (length > kMaxChunkLength)
+            throw Error(name + ": a " + std::string(tag) + " chunk of " + std::to_string(length) +
                         " bytes is larger than the format allows (" + std::to_string(kMaxChunkLength) + ")");
         std::array<unsigned char, kChunkHeaderSize> head;
         std::memcpy(head.data(), tag.data(), 4);
-        putLe64(head.data() + 4, payload.size());
+        putLe64(head.data() + 4, length);
+        uint32_t running = crc(0, head.data(), head.size());
+        for (const auto& p : payload)
+            running = crc(running, p.data(), p.size());
         std::array<unsigned char, kCrcSize> sum;
-        putLe32(sum.data(), crc(crc(0, head.data(), head.size()), payload.data(), payload.size()));
+        putLe32(sum.data(), running);
         writeBytes(head.data(), head.size());
-        writeBytes(payload.data(), payload.size());
+        for (const auto& p : payload)
+            writeBytes(p.data(), p.size());
         writeBytes(sum.data(), sum.size());
     }
 
@@ -465,6 +571,33 @@ void Writer::writePaths(std::span<const PathRecord> paths) {
     impl_->writeChunk(kPath, e.bytes());
 }
 
+void EncodedChainStates::add(const ChainState& state) {
+    Encoder e(bytes_);
+    encodeChainState(e, state);
+    ++count_;
+}
+
+void Writer::writeChainRound(const ChainRound& round) {
+    EncodedChainStates states;
+    for (const ChainState& s : round.states)
+        states.add(s);
+    const EncodedChainStates* parts[] = {&states};
+    writeChainRound(round, parts);
+}
+
+void Writer::writeChainRound(const ChainRound& figures, std::span<const EncodedChainStates* const> parts) {
+    impl_->requireKind(FileKind::Paths, kChst);
+    uint64_t states = 0;
+    for (const auto* p : parts)
+        states += p->count();
+    Encoder header;
+    encodeRoundHeader(header, figures, states, impl_->name);
+    std::vector<std::string_view> pieces{header.bytes()};
+    for (const auto* p : parts)
+        pieces.push_back(p->bytes());
+    impl_->writeChunk(kChst, pieces);
+}
+
 void Writer::writeBuffer(const Buffer& buffer) {
     impl_->requireKind(FileKind::Buffer, kBufr);
     Encoder e;
@@ -487,7 +620,7 @@ void Writer::writeStats(const StatTable& stats) {
 
 void Writer::finish() {
     Impl& w = *impl_;
-    w.writeChunk(kEnd, {});
+    w.writeChunk(kEnd, std::string());
     // fsync on a pipe or terminal (stdout) is meaningless and fails with EINVAL; on a file it is what
     // makes the rename below safe against a crash.
     if (::fsync(w.fd) != 0 && !(w.tempPath.empty() && (errno == EINVAL || errno == EROFS || errno == ENOTSUP)))
@@ -595,7 +728,7 @@ struct Reader::Impl {
     }
 
     static bool isKnown(std::string_view t) {
-        return t == kInfo || t == kPath || t == kBufr || t == kSnap || t == kStat || t == kEnd;
+        return t == kInfo || t == kPath || t == kChst || t == kBufr || t == kSnap || t == kStat || t == kEnd;
     }
 
     // Reads the next chunk and checks its CRC. Returns the payload of a known chunk (tag in `tag`);
@@ -697,6 +830,10 @@ struct Reader::Impl {
                     requireKind(FileKind::Paths);
                     return decodePaths(d);
                 }
+                if (tag == kChst) {
+                    requireKind(FileKind::Paths);
+                    return decodeChainRound(d);
+                }
                 if (tag == kBufr) {
                     requireKind(FileKind::Buffer);
                     return decodeBuffer(d);
@@ -773,6 +910,9 @@ Content readAll(const std::string& path, std::optional<FileKind> expected) {
             count("PATH");
             content.paths.insert(content.paths.end(), std::make_move_iterator(paths->begin()),
                                  std::make_move_iterator(paths->end()));
+        } else if (auto* round = std::get_if<ChainRound>(&chunk)) {
+            count("CHST");
+            content.rounds.push_back(std::move(*round));
         } else if (auto* buffer = std::get_if<Buffer>(&chunk)) {
             count("BUFR");
             content.buffers.push_back(std::move(*buffer));

@@ -19,6 +19,23 @@ namespace lt::file {
 // The format version this lt writes and the newest it reads (SPEC.md "Versioning").
 constexpr uint32_t kVersion = 1;
 
+// Chain states as a CHST chunk holds them (SPEC.md), encoded where they arise: the Markov chains encode their
+// own in parallel (lt-mutate --stream) and the writer only joins the pieces.
+class EncodedChainStates {
+public:
+    void add(const ChainState& state);
+    void clear() {
+        bytes_.clear();
+        count_ = 0;
+    }
+    [[nodiscard]] uint64_t count() const { return count_; }
+    [[nodiscard]] const std::string& bytes() const { return bytes_; }
+
+private:
+    std::string bytes_;
+    uint64_t count_ = 0;
+};
+
 // Writes one file chunk by chunk. On a path, the bytes go to NAME.partial-PID in the same directory and
 // only finish() renames them to NAME, so no half-written output ever carries the final name; a writer
 // destroyed before finish() removes its temporary file. On "-", chunks stream to stdout as they are
@@ -35,6 +52,9 @@ public:
     Writer& operator=(const Writer&) = delete;
 
     void writePaths(std::span<const PathRecord> paths);   // one PATH chunk; paths files only
+    void writeChainRound(const ChainRound& round);        // one CHST chunk; paths files only
+    // One CHST chunk of the round's figures (its `states` unused) and states already encoded, in the order given.
+    void writeChainRound(const ChainRound& figures, std::span<const class EncodedChainStates* const> parts);
     void writeBuffer(const Buffer& buffer);               // one BUFR chunk; buffer files only
     void writeSnapshot(const Snapshot& snapshot);         // one SNAP chunk; buffer files only
     void writeStats(const StatTable& stats);              // one STAT chunk
@@ -52,7 +72,7 @@ private:
 // The end marker: the file is complete.
 struct End {};
 // One decoded chunk. INFO is read when the Reader opens (Reader::info), unknown chunks are skipped.
-using Chunk = std::variant<std::vector<PathRecord>, Buffer, Snapshot, StatTable, End>;
+using Chunk = std::variant<std::vector<PathRecord>, ChainRound, Buffer, Snapshot, StatTable, End>;
 
 // Reads one file front to back without seeking, so "-" (stdin) and pipes work like files. Every
 // length is checked against what the payload can hold before anything is allocated for it, and every
@@ -90,6 +110,7 @@ struct Content {
     // the file's table of contents for lt-inspect.
     std::vector<std::pair<std::string, size_t>> chunkCounts;
     std::vector<PathRecord> paths;   // all PATH batches concatenated
+    std::vector<ChainRound> rounds;  // CHST chunks
     std::vector<Buffer> buffers;
     std::vector<Snapshot> snapshots;
     std::vector<StatTable> stats;

@@ -45,6 +45,30 @@ struct PathRecord {
     uint64_t rngOffset = 0;
 };
 
+// One state of a path-space Markov chain with the credit the chain's image gave it (lt-mutate --stream,
+// SPEC.md "CHST"): an estimator downstream re-weighs the chain's samples from these alone. The image of
+// the run is (b / N) x sum of credit x f / f* splatted at the raster positions (N: the mutations).
+struct ChainState {
+    uint32_t chain = 0;
+    double credit = 0;             // expected-value credit: a for a proposal, the sum of 1 - a for a state held
+    std::array<float, 2> raster{}; // continuous raster position (pixels of the full film)
+    std::array<float, 3> f{};      // the contribution f (image units, RGB)
+    float target = 0;              // f*, the value of the chain's target function
+    // Light to eye, as a chain state's path record holds them; stored are only what re-creates them: kind,
+    // lobe, shape, prim and coords, and at the light vertex light, p and ng.
+    std::vector<VertexRecord> vertices;
+};
+
+// What one round of all chains credited, in chain order, with the run's figures after it.
+struct ChainRound {
+    uint64_t mutations = 0; // all chains' mutations so far (N)
+    double b = 0;           // the normalization as it stands after the round
+    uint64_t bSamples = 0;  // the independent samples b rests on
+    double wallSeconds = 0; // of the run so far
+    double cpuSeconds = 0;
+    std::vector<ChainState> states;
+};
+
 // A set of named float planes of one size, e.g. "primal.R", "dx.G", "var.B"; plus per-pixel sample
 // counts and how this buffer combines with another's.
 struct Buffer {

@@ -13,9 +13,12 @@
 #include "bsdf/half_vector.h"
 #include "bsdf/roughconductor.h"
 #include "bsdf/roughdielectric.h"
+#include "gradient/chain_stream.h"
 #include "gradient/gradient_path_tracer.h"
 #include "gradient/path_reusing.h"
 #include "math/rng.h"
+#include "mcmc/mutation_selection.h"
+#include "mcmc/path_space_chains.h"
 #include "reconstruct/gradient_image.h"
 #include "reconstruct/screened_poisson.h"
 #include "sampling/render.h"
@@ -107,15 +110,19 @@ GradientImage renderGradient(const Scene& scene, const PixelEstimator& estimator
     return gradientImageFromBuffer(film.toBuffer(), "test");
 }
 
-std::vector<float> renderPt(const Scene& scene, int spp, uint64_t seed) {
+std::vector<float> renderWith(PixelMethod method, const Scene& scene, int spp, uint64_t seed) {
     SampleFilm film(scene.camera);
     RenderSettings rs;
     rs.paths = settingsFor(scene).paths;
     rs.spp = spp;
     rs.seed = seed;
     rs.threads = 2;
-    (void)render(scene, *makePixelEstimator(PixelMethod::PathTracing, scene, rs.paths), rs, film, {}, nullptr);
+    (void)render(scene, *makePixelEstimator(method, scene, rs.paths), rs, film, {}, nullptr);
     return film.develop();
+}
+
+std::vector<float> renderPt(const Scene& scene, int spp, uint64_t seed) {
+    return renderWith(PixelMethod::PathTracing, scene, spp, seed);
 }
 
 // Mean luminance over square regions of `r` pixels of an image given per pixel (RGB at index i).
@@ -759,5 +766,141 @@ TEST_CASE("the variance planes hold the sample variance of the passes' values", 
             }
         }
         CHECK(nonzero > 200);
+    }
+}
+
+namespace {
+
+// A path-space MLT run whose chain-state stream (lt-mutate --stream) is written to `file`, and the chains' own
+// image; then the stream read back by the gradient stage (lt-gradient --from-paths).
+struct StreamedRun {
+    std::vector<float> chainImage;
+    double b = 0;
+    file::Buffer gradients;
+};
+StreamedRun runStreamedChains(const Scene& scene, const std::string& file, uint64_t mutations, uint64_t seed) {
+    PathSettings bdpt;
+    bdpt.maxDepth = scene.integrator.maxDepth;
+    const auto seeds = seedWithBdpt(scene, bdpt, 20000, 1024, seed * 7919 + 1, 2, nullptr);
+    std::vector<std::unique_ptr<Mutation>> owned;
+    std::vector<WeightedMutation> mix;
+    makeMutations(chooseMutations("bidirectional,lens", analyzeScene(scene)), scene, {bdpt.maxDepth}, owned, mix);
+    ChainRunSettings rs;
+    rs.mutations = mutations;
+    rs.chains = 32;
+    rs.threads = 2;
+    rs.seed = seed;
+    SampleFilm film(scene.camera);
+    StreamedRun out;
+    {
+        file::Writer writer(file, file::FileKind::Paths, {{"producer", "test"}});
+        PathDump dump;
+        dump.writeRound = [&](const file::ChainRound& figures, std::vector<file::EncodedChainStates>&& states) {
+            std::vector<const file::EncodedChainStates*> parts;
+            for (const auto& s : states)
+                parts.push_back(&s);
+            writer.writeChainRound(figures, parts);
+        };
+        const auto st = runPathSpaceChains(scene, seeds, mix, rs, bdpt, 1.0 / 16, film, {}, nullptr, {}, dump);
+        REQUIRE(st.health.nonFinite == 0);
+        writer.finish();
+        out.b = st.normalization.b();
+        out.chainImage = film.develop(out.b);
+    }
+    file::Reader reader(file, file::FileKind::Paths);
+    ShiftStatistics shifts;
+    ChainStreamSettings cs;
+    cs.threads = 2;
+    const auto gs = gradientsFromStream(scene, reader, cs, out.gradients, shifts, {}, {}, nullptr);
+    REQUIRE(gs.health.nonFinite == 0);
+    return out;
+}
+
+} // namespace
+
+TEST_CASE("GDMLT: the chain-state stream credits every state as the chains' own image does", "[gradient][gdmlt]") {
+    test::TempDir dir;
+    const auto scene = loadScene(test::shippedScene("cornell-spheres"));
+    scene->camera = scene->camera.withResolution(32, 32);
+    const std::string file = (dir.path / "stream.ltp").string();
+    const StreamedRun run = runStreamedChains(*scene, file, 32 * 32 * 16, 3);
+    // The image the stream holds: (b / N) sum credit f / f* at each state's raster position.
+    const file::Content content = file::readAll(file, file::FileKind::Paths);
+    REQUIRE(!content.rounds.empty());
+    SampleFilm film(scene->camera);
+    uint64_t mutations = 0;
+    for (const auto& round : content.rounds) {
+        std::vector<Splat> splats;
+        for (const auto& s : round.states)
+            splats.push_back({Vec2(s.raster[0], s.raster[1]),
+                              Spectrum(s.f[0], s.f[1], s.f[2]) * (s.credit / (double(s.target) * 32 * 32))});
+        film.mergeSplats({&splats}, round.mutations - mutations);
+        mutations = round.mutations;
+    }
+    CHECK(mutations == 32 * 32 * 16);
+    CHECK(content.rounds.back().b == run.b);
+    // Every mutation hands out a credit of one (a to the proposal, 1 - a to the state it was made from).
+    double credit = 0;
+    for (const auto& round : content.rounds)
+        for (const auto& s : round.states)
+            credit += s.credit;
+    CHECK(credit == Approx(double(mutations)).epsilon(1e-9));
+    const std::vector<float> image = film.develop(content.rounds.back().b);
+    REQUIRE(image.size() == run.chainImage.size());
+    // f, f* and the raster position are stored in binary32: relative errors of ~1e-7 in the values and
+    // ~4e-6 pixels in the position, which moves the tent filter's weights by about as much.
+    const float peak = *std::max_element(run.chainImage.begin(), run.chainImage.end());
+    for (size_t i = 0; i < image.size(); ++i) {
+        CAPTURE(i, image[i], run.chainImage[i]);
+        CHECK(std::abs(image[i] - run.chainImage[i]) <= 1e-4f * std::abs(run.chainImage[i]) + 1e-6f * peak);
+    }
+}
+
+TEST_CASE("GDMLT: primal and gradients from chain states are unbiased against BDPT", "[gradient][gdmlt]") {
+    test::TempDir dir;
+    for (const char* name : {"cornell-box", "cornell-spheres"}) {
+        CAPTURE(name);
+        const auto scene = loadScene(test::shippedScene(name));
+        scene->camera = scene->camera.withResolution(32, 32);
+        const int runs = 16, w = 32, r = 8;
+        // Per run: region means of the image (primal + direct), of its forward differences (dx and dy plus the
+        // direct plane's differences) and of the L2 reconstruction, as T-GR-3.
+        std::array<std::vector<std::vector<double>>, 4> chains;
+        for (int run = 0; run < runs; ++run) {
+            const StreamedRun s =
+                runStreamedChains(*scene, (dir.path / "stream.ltp").string(), 32 * 32 * 64, 100 + uint64_t(run));
+            const GradientImage g = gradientImageFromBuffer(s.gradients, "test");
+            auto image = [&](int x, int y) { return at(g.primal, g.width, x, y) + at(*g.direct, g.width, x, y); };
+            chains[0].push_back(regionMeans(w, w, r, image));
+            chains[1].push_back(regionMeans(w - 1, w, r, [&](int x, int y) {
+                return at(g.dx, g.width, x, y) + at(*g.direct, g.width, x + 1, y) - at(*g.direct, g.width, x, y);
+            }));
+            chains[2].push_back(regionMeans(w, w - 1, r, [&](int x, int y) {
+                return at(g.dy, g.width, x, y) + at(*g.direct, g.width, x, y + 1) - at(*g.direct, g.width, x, y);
+            }));
+            ReconstructStatistics stats;
+            const file::Buffer l2 = reconstructScreenedPoisson(g, ReconstructSettings{}, stats);
+            chains[3].push_back(regionMeans(w, w, r, [&](int x, int y) {
+                const size_t i = size_t(y * w + x);
+                return Spectrum(l2.planes[0][i], l2.planes[1][i], l2.planes[2][i]);
+            }));
+        }
+        std::array<std::vector<std::vector<double>>, 3> bdpt;
+        for (int run = 0; run < runs; ++run) {
+            const auto img = renderWith(PixelMethod::Bdpt, *scene, 16, 500 + uint64_t(run));
+            auto px = [&](int x, int y) {
+                const size_t i = size_t(y * w + x);
+                return Spectrum(img[3 * i], img[3 * i + 1], img[3 * i + 2]);
+            };
+            bdpt[0].push_back(regionMeans(w, w, r, px));
+            bdpt[1].push_back(regionMeans(w - 1, w, r, [&](int x, int y) { return px(x + 1, y) - px(x, y); }));
+            bdpt[2].push_back(regionMeans(w, w - 1, r, [&](int x, int y) { return px(x, y + 1) - px(x, y); }));
+        }
+        for (int p = 0; p < 3; ++p) {
+            CAPTURE(p);
+            checkSameMeans(chains[size_t(p)], bdpt[size_t(p)]);
+        }
+        INFO("the L2 reconstruction");
+        checkSameMeans(chains[3], bdpt[0]);
     }
 }

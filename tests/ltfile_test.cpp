@@ -94,6 +94,43 @@ struct Random {
         p.rngOffset = integer<uint64_t>(0, UINT64_MAX);
         return p;
     }
+    // A round of chain states holding only what CHST stores (records.h ChainState).
+    ChainRound round(int maxStates = 6) {
+        ChainRound r{integer<uint64_t>(0, UINT64_MAX),
+                     real<double>(),
+                     integer<uint64_t>(0, UINT64_MAX),
+                     real<double>(),
+                     real<double>(),
+                     {}};
+        for (int n = integer(0, maxStates); n > 0; --n) {
+            ChainState st;
+            st.chain = integer<uint32_t>(0, UINT32_MAX);
+            st.credit = real<double>();
+            st.raster = reals<float, 2>();
+            st.f = reals<float, 3>();
+            st.target = real<float>();
+            st.vertices.resize(size_t(integer(2, 7)));
+            for (size_t i = 0; i < st.vertices.size(); ++i) {
+                const VertexRecord v = vertex();
+                VertexRecord& k = st.vertices[i];
+                k.kind = i == 0 ? VertexKind::Light
+                                : (i + 1 == st.vertices.size() ? VertexKind::Camera : VertexKind::Surface);
+                if (i + 1 == st.vertices.size()) continue;
+                k.shape = v.shape;
+                k.prim = v.prim;
+                k.coords = v.coords;
+                if (i == 0) {
+                    k.light = v.light;
+                    k.p = v.p;
+                    k.ng = v.ng;
+                } else {
+                    k.lobe = v.lobe;
+                }
+            }
+            r.states.push_back(std::move(st));
+        }
+        return r;
+    }
     Buffer buffer(uint32_t maxSide = 6) {
         Buffer b;
         b.width = integer<uint32_t>(1, maxSide);
@@ -226,6 +263,7 @@ std::string smallPathsFile(const test::TempDir& dir) {
     PathRecord p = random.path(0);
     p.vertices = {random.vertex(), random.vertex()};
     w.writePaths(std::span(&p, 1));
+    w.writeChainRound(random.round(1));
     w.writeStats(StatTable{"t", {"proposed"}, {"lens"}, {{3}}});
     w.finish();
     return name;
@@ -312,6 +350,70 @@ TEST_CASE("every chunk kind round-trips bit for bit", "[format]") {
     CHECK(same(content.snapshots, snapshots));
     CHECK(same(content.stats, std::vector<StatTable>{tables[0]}));
     CHECK(content.paths.empty());
+}
+
+TEST_CASE("chain-state rounds round-trip bit for bit, whole or encoded in pieces", "[format]") {
+    test::TempDir dir;
+    Random random;
+    std::vector<ChainRound> rounds{random.round(0), random.round(), random.round(40)};
+    const std::string file = dir.file("s.ltp");
+    {
+        Writer w(file, FileKind::Paths, kInfo);
+        for (const auto& r : rounds)
+            w.writeChainRound(r);
+        // The same round from two chains' encodings.
+        std::vector<EncodedChainStates> parts(2);
+        for (size_t i = 0; i < rounds[2].states.size(); ++i)
+            parts[i % 2 == 0 && i < 20 ? 0 : 1].add(rounds[2].states[i]);
+        const EncodedChainStates* pieces[] = {&parts[0], &parts[1]};
+        w.writeChainRound(rounds[2], pieces);
+        w.finish();
+    }
+    const auto bits = [](const auto& v) {
+        return std::vector<unsigned char>(reinterpret_cast<const unsigned char*>(&v),
+                                          reinterpret_cast<const unsigned char*>(&v) + sizeof(v));
+    };
+    const auto same = [&](const ChainRound& a, const ChainRound& b) {
+        bool ok = a.mutations == b.mutations && bits(a.b) == bits(b.b) && a.bSamples == b.bSamples &&
+                  bits(a.wallSeconds) == bits(b.wallSeconds) && bits(a.cpuSeconds) == bits(b.cpuSeconds) &&
+                  a.states.size() == b.states.size();
+        for (size_t i = 0; ok && i < a.states.size(); ++i) {
+            const ChainState &x = a.states[i], &y = b.states[i];
+            ok = x.chain == y.chain && bits(x.credit) == bits(y.credit) && bits(x.raster) == bits(y.raster) &&
+                 bits(x.f) == bits(y.f) && bits(x.target) == bits(y.target) && x.vertices.size() == y.vertices.size();
+            for (size_t k = 0; ok && k < x.vertices.size(); ++k) {
+                const VertexRecord &u = x.vertices[k], &v = y.vertices[k];
+                ok = u.kind == v.kind && u.lobe == v.lobe && u.shape == v.shape && u.prim == v.prim &&
+                     bits(u.coords) == bits(v.coords) && u.light == v.light && bits(u.p) == bits(v.p) &&
+                     bits(u.ng) == bits(v.ng);
+            }
+        }
+        return ok;
+    };
+    const Content c = readAll(file, FileKind::Paths);
+    REQUIRE(c.rounds.size() == 4);
+    for (size_t i = 0; i < 3; ++i)
+        CHECK(same(c.rounds[i], rounds[i]));
+    // Pieces keep their order: chain 0's states, then chain 1's.
+    ChainRound pieced = rounds[2];
+    pieced.states.clear();
+    for (int part = 0; part < 2; ++part)
+        for (size_t i = 0; i < rounds[2].states.size(); ++i)
+            if ((i % 2 == 0 && i < 20) == (part == 0)) pieced.states.push_back(rounds[2].states[i]);
+    CHECK(same(c.rounds[3], pieced));
+
+    // A state of fewer than two vertices is refused by the writer, and by the reader (CRC recomputed).
+    ChainRound bad = random.round(1);
+    bad.states.assign(1, ChainState{});
+    bad.states[0].vertices.resize(1);
+    CHECK_THROWS_WITH(Writer(dir.file("x.ltp"), FileKind::Paths, kInfo).writeChainRound(bad),
+                      Catch::Contains("a chain state with 1 vertices"));
+    std::string payload = std::string(8 * 5, '\0') + le(uint32_t(1)) + std::string(36, '\0') + le(uint16_t(1));
+    const std::string header = slurp(smallPathsFile(dir)).substr(0, afterInfo(slurp(smallPathsFile(dir))));
+    dir.write("bad.ltp", header + chunk("CHST", payload + std::string(64, '\0')) + chunk("END!", ""));
+    CHECK(errorOf(dir.file("bad.ltp")).find("a chain state with 1 vertices") != std::string::npos);
+    dir.write("bad.ltp", header + chunk("CHST", std::string(8 * 5, '\0') + le(uint32_t(1000))) + chunk("END!", ""));
+    CHECK(errorOf(dir.file("bad.ltp")).find("the chain states need 1000 x 102 bytes") != std::string::npos);
 }
 
 TEST_CASE("truncation at every byte gives a clean error naming the file", "[format]") {
@@ -651,7 +753,7 @@ TEST_CASE("checkSceneHash names both scenes and hashes", "[format]") {
 TEST_CASE("the Python lister in SPEC.md reads what the Writer writes", "[format]") {
     if (!fs::exists("/usr/bin/python3")) return;   // the snippet documents the format; python is optional
     const std::string spec = slurp(std::string(LT_SOURCE_DIR) + "/formats/SPEC.md");
-    const size_t begin = spec.find("```python\n");
+    const size_t begin = spec.find("```python\n", spec.find("## Listing a file in Python"));
     REQUIRE(begin != std::string::npos);
     const size_t end = spec.find("```", begin + 10);
     test::TempDir dir;
@@ -670,4 +772,50 @@ TEST_CASE("the Python lister in SPEC.md reads what the Writer writes", "[format]
                            "chunk 2 (SNAP) at byte " + std::to_string(snap) + ": 97 bytes, crc ok\n"
                            "chunk 3 (BUFR) at byte " + std::to_string(snap + 113) + ": 65 bytes, crc ok\n"
                            "chunk 4 (END!) at byte " + std::to_string(snap + 113 + 81) + ": 0 bytes, crc ok\n");
+}
+
+TEST_CASE("the Python reader of chain states in SPEC.md reads what the Writer writes", "[format]") {
+    if (!fs::exists("/usr/bin/python3")) return;
+    const std::string spec = slurp(std::string(LT_SOURCE_DIR) + "/formats/SPEC.md");
+    const size_t begin = spec.find("```python\n", spec.find("## CHST"));
+    REQUIRE(begin != std::string::npos);
+    const size_t end = spec.find("```", begin + 10);
+    test::TempDir dir;
+    Random random;
+    ChainRound round = random.round(30);
+    round.mutations = 12345;
+    for (auto& st : round.states)
+        st.credit = 0.25;
+    const std::string file = dir.file("s.ltp");
+    {
+        Writer w(file, FileKind::Paths, kInfo);
+        w.writeChainRound(round);
+        w.finish();
+    }
+    // Walks the chunks as the lister does and prints what chain_states finds.
+    const std::string script = dir.write("states.py", spec.substr(begin + 10, end - begin - 10) + R"(
+import sys
+data = open(sys.argv[1], "rb").read()
+at = 12
+while at < len(data):
+    tag, length = struct.unpack_from("<4sQ", data, at)
+    if tag == b"CHST":
+        mutations, b, states = chain_states(data[at + 12:at + 12 + length])
+        print(mutations, len(states), round(4 * sum(s[1] for s in states)), [s[5] for s in states])
+    at += 16 + length
+)");
+    FILE* pipe = ::popen(("/usr/bin/python3 " + script + " " + file + " 2>&1").c_str(), "r");
+    REQUIRE(pipe);
+    std::string output;
+    char line[4096];
+    while (std::fgets(line, sizeof line, pipe))
+        output += line;
+    CHECK(::pclose(pipe) == 0);
+    std::string counts;
+    for (const auto& st : round.states)
+        counts += (counts.empty() ? "" : ", ") + std::to_string(st.vertices.size());
+    std::ostringstream expected;
+    // Four times the summed credit: each state's is 0.25.
+    expected << "12345 " << round.states.size() << " " << round.states.size() << " [" << counts << "]\n";
+    CHECK(output == expected.str());
 }

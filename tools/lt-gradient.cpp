@@ -10,11 +10,91 @@
 #include "common/scene_options.h"
 #include "common/tool.h"
 #include "formats/ltfile.h"
+#include "gradient/chain_stream.h"
 #include "gradient/gradient_path_tracer.h"
 #include "gradient/path_reusing.h"
 #include "sampling/render.h"
 
 using lt::tool::formatSeconds;
+
+namespace {
+
+struct StreamOptions {
+    std::string scenePath, out, stream, resolution, snapshotTimes;
+    std::vector<std::string> defines;
+    double shiftThreshold;
+    int threads;
+    bool strict, quiet;
+};
+
+// --from-paths: the gradient stage of gradient-domain MLT (gradient/chain_stream.h).
+int fromChainStream(const CLI::App&, int argc, char** argv, const StreamOptions& o) {
+    auto scene = lt::tool::loadSceneWithOptions("lt-gradient", o.scenePath, o.defines, o.resolution, o.strict, o.quiet);
+    lt::file::Reader stream(o.stream, lt::file::FileKind::Paths);
+    lt::file::checkSceneHash(stream.info(), scene->contentHash, stream.name(), o.scenePath);
+    const auto& made = stream.info().value("parameters", nlohmann::json::object());
+    const lt::Film& film = scene->camera.film();
+    if (made.contains("resolution") && made["resolution"] != nlohmann::json{film.width, film.height})
+        throw lt::Error(stream.name() + ": made at resolution " + made["resolution"].dump() + " but the film is " +
+                        std::to_string(film.width) + "x" + std::to_string(film.height) +
+                        " (give the same --resolution to both tools)");
+    lt::ChainStreamSettings settings;
+    settings.shiftThreshold = o.shiftThreshold;
+    settings.threads = o.threads;
+    if (!o.snapshotTimes.empty()) settings.snapshots = lt::SnapshotSchedule::parseTimes(o.snapshotTimes);
+    nlohmann::json params = {{"method", "chain-states"},
+                             {"stream", o.stream},
+                             {"stream_producer", stream.info().value("producer", "")},
+                             {"chain_parameters", made},
+                             {"shift_threshold", o.shiftThreshold},
+                             {"weights", "pairs of a state and its shift, g*(x) / (g*(x) + g*(Tx) |T'|) with g* = "
+                                         "lum f, each over the chain's density b f*(x) / N"},
+                             {"snapshots", o.snapshotTimes},
+                             {"resolution", {film.width, film.height}},
+                             {"filter", film.filter.name()}};
+    lt::file::Writer writer(o.out, lt::file::FileKind::Buffer,
+                            lt::tool::makeInfo("lt-gradient", argc, argv, params, scene.get()));
+    lt::tool::installInterruptHandler();
+    lt::tool::Progress progress("lt-gradient", o.quiet);
+    const double pixels = double(film.cropWidth) * double(film.cropHeight);
+    lt::ShiftStatistics shifts;
+    lt::file::Buffer result;
+    const auto stats = lt::gradientsFromStream(*scene, stream, settings, result, shifts,
+                                               lt::tool::runProgress(progress, pixels, "mutations/pixel"),
+                                               lt::tool::snapshotWriter(writer), &lt::tool::stopRequested());
+    progress.finish();
+    writer.writeBuffer(result);
+    writer.writeStats(lt::file::valueTable("run", {{"rounds", double(stats.rounds)},
+                                                   {"states", double(stats.states)},
+                                                   {"mutations", double(stats.mutations)},
+                                                   {"wall_seconds", stats.wallSeconds},
+                                                   {"cpu_seconds", stats.cpuSeconds},
+                                                   {"chain_wall_seconds", stats.chainWallSeconds},
+                                                   {"own_seconds", stats.ownSeconds},
+                                                   {"rays", double(stats.rays)},
+                                                   {"nonfinite_dropped", double(stats.health.nonFinite)},
+                                                   {"interrupted", stats.interrupted ? 1.0 : 0.0},
+                                                   {"snapshots", double(stats.snapshots)},
+                                                   {"snapshot_seconds", stats.snapshotSeconds}}));
+    writer.writeStats(lt::file::valueTable("normalization", {{"b", stats.b}, {"b_samples", double(stats.bSamples)}}));
+    writer.writeStats(shifts.table());
+    writer.finish();
+    if (!o.quiet) {
+        const double n = std::max<double>(1, double(shifts.shifts));
+        std::cerr << "lt-gradient: " << (stats.interrupted ? "interrupted after " : "") << stats.states
+                  << " chain states of " << stats.rounds << " rounds (" << double(stats.mutations) / pixels
+                  << " mutations/pixel) in " << formatSeconds(stats.ownSeconds) << "; " << double(shifts.shifts)
+                  << " shifts: " << std::setprecision(3)
+                  << 100 * double(shifts.causes[size_t(lt::ShiftCause::Reconnected)]) / n << "% reconnected, "
+                  << 100 * double(shifts.causes[size_t(lt::ShiftCause::Mismatch)]) / n << "% mismatched, "
+                  << 100 * double(shifts.causes[size_t(lt::ShiftCause::Occluded)]) / n << "% occluded";
+        if (stats.health.nonFinite) std::cerr << " (" << stats.health.nonFinite << " non-finite states dropped)";
+        std::cerr << " -> " << writer.name() << '\n';
+    }
+    return stats.interrupted ? lt::tool::interruptedExitCode() : 0;
+}
+
+} // namespace
 
 int main(int argc, char** argv) {
     CLI::App app{"lt-gradient: render a Mitsuba scene in the gradient domain. Base paths are traced as by a path "
@@ -22,12 +102,15 @@ int main(int argc, char** argv) {
                  "rough vertices, half-vector copy through smooth ones). --method gpt shifts every path to its four "
                  "neighbours (gradient-domain path tracing); --method gdpr reuses every path in all pixels of its "
                  "tile (gradient-domain path reusing). Writes the planes primal, dx, dy and direct as lt-reconstruct "
-                 "reads them, and per pixel the variance of one pass's value of each (NAME.var, luminance): lt-gradient S -o - | "
-                 "lt-reconstruct - -o image.exr. Same seed and sample count give a "
-                 "bit-identical file whatever the thread count; Ctrl-C stops after the current tiles and still "
-                 "writes a valid file.",
+                 "reads them, and per pixel the variance of one pass's value of each (NAME.var, luminance): "
+                 "lt-gradient S -o - | "
+                 "lt-reconstruct - -o image.exr. With --from-paths it is the gradient stage of gradient-domain MLT "
+                 "instead: the states of lt-mutate's chains (lt-mutate S --stream -) are shifted to their four "
+                 "neighbours and weighed as draws of the chains' density. Same seed and sample count give a "
+                 "bit-identical file whatever the thread count; Ctrl-C stops after the current tiles (or round) and "
+                 "still writes a valid file.",
                  "lt-gradient"};
-    std::string scenePath, out, method = "gdpr", resolution, snapshotTimes, snapshotSamples;
+    std::string scenePath, out, method = "gdpr", resolution, snapshotTimes, snapshotSamples, fromPaths;
     int spp = 0, maxDepth = -2, rrDepth = 0, threads = 0;
     double timeLimit = 0;
     uint64_t seed = 0;
@@ -39,6 +122,10 @@ int main(int argc, char** argv) {
     app.add_option("--method", method,
                    "gdpr (default: gradient-domain path reusing) or gpt (gradient-domain path tracing)")
         ->check(CLI::IsMember({"gpt", "gdpr"}));
+    app.add_option("--from-paths", fromPaths,
+                   "the chain-state stream of lt-mutate --stream (a file, or - for stdin): estimate primal, dx, dy and "
+                   "direct from the chains' states (gradient-domain MLT) instead of tracing base paths; the options "
+                   "of the path tracers (--method, --spp, --time, --tile, --max-depth, --rr-*, --seed) do not apply");
     app.add_option("--spp", spp,
                    "samples per pixel: base paths per pixel (default: the scene's sampleCount; with --time, an upper "
                    "bound)")
@@ -78,6 +165,14 @@ int main(int argc, char** argv) {
     app.add_flag("-q,--quiet", quiet, "no progress output");
 
     return lt::tool::run(app, argc, argv, [&] {
+        if (!fromPaths.empty()) {
+            for (const char* o : {"--method", "--spp", "--time", "--tile", "--max-depth", "--rr-depth", "--rr-delta",
+                                  "--rr-min", "--seed", "--snapshot-samples"})
+                if (app.count(o)) throw lt::Error(std::string(o) + " is not an option of --from-paths");
+            return fromChainStream(app, argc, argv,
+                                   {scenePath, out, fromPaths, resolution, snapshotTimes, defines, gs.shiftThreshold,
+                                    threads, strict, quiet});
+        }
         const bool gpt = method == "gpt";
         if (gpt && (app.count("--tile") || app.count("--rr-delta") || app.count("--rr-min")))
             throw lt::Error("--tile, --rr-delta and --rr-min are options of --method gdpr");

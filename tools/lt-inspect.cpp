@@ -166,6 +166,26 @@ template <class T, size_t N> std::string tuple(const std::array<T, N>& a) {
     return s + ")";
 }
 
+// A chain-state stream (lt-mutate --stream) in figures: its last round's, and the credit of all states (which
+// sums to the mutations when every round was written).
+struct ChainStreamSummary {
+    uint64_t rounds = 0, states = 0, mutations = 0;
+    double b = 0, credit = 0, wallSeconds = 0;
+};
+ChainStreamSummary chainStreamSummary(const std::vector<lt::file::ChainRound>& rounds) {
+    ChainStreamSummary s;
+    s.rounds = rounds.size();
+    for (const auto& r : rounds) {
+        s.states += r.states.size();
+        for (const auto& st : r.states)
+            s.credit += st.credit;
+    }
+    s.mutations = rounds.back().mutations;
+    s.b = rounds.back().b;
+    s.wallSeconds = rounds.back().wallSeconds;
+    return s;
+}
+
 std::string kindText(lt::file::FileKind k) { return k == lt::file::FileKind::Paths ? "paths" : "buffer"; }
 
 std::string vertexKindText(lt::file::VertexKind k) {
@@ -317,6 +337,11 @@ nlohmann::json fileJson(const lt::file::Content& f, std::optional<size_t> pathLi
     j["stats"] = nlohmann::json::array();
     for (const auto& t : c.stats)
         j["stats"].push_back({{"name", t.name}, {"columns", t.columns}, {"rows", t.rows}, {"values", t.values}});
+    if (!c.rounds.empty()) {
+        const ChainStreamSummary r = chainStreamSummary(c.rounds);
+        j["chain_states"] = {{"rounds", r.rounds}, {"states", r.states}, {"mutations", r.mutations},
+                             {"b", r.b},           {"credit", r.credit}, {"wall_seconds", r.wallSeconds}};
+    }
     if (c.kind == lt::file::FileKind::Paths) {
         const lt::PathStatistics s = lt::pathStatistics(c.paths);
         nlohmann::json lengths = nlohmann::json::object(), techniques = nlohmann::json::object();
@@ -368,7 +393,8 @@ void printFile(const lt::file::Content& f, bool histogram) {
     row("producer", producer);
     if (info.contains("command") && info["command"].is_array()) {
         std::string cmd;
-        for (const auto& a : info["command"]) cmd += (cmd.empty() ? "" : " ") + (a.is_string() ? a.get<std::string>() : a.dump());
+        for (const auto& a : info["command"])
+            cmd += (cmd.empty() ? "" : " ") + (a.is_string() ? a.get<std::string>() : a.dump());
         row("command", cmd);
     }
     if (info.contains("parameters") && info["parameters"].is_object()) {
@@ -402,7 +428,13 @@ void printFile(const lt::file::Content& f, bool histogram) {
         }
         printTable(rows, "           ");
     }
-    if (c.kind == lt::file::FileKind::Paths) {
+    if (!c.rounds.empty()) {
+        const ChainStreamSummary r = chainStreamSummary(c.rounds);
+        row("states", std::to_string(r.states) + " in " + std::to_string(r.rounds) + " rounds, " +
+                          std::to_string(r.mutations) + " mutations, b = " + num(r.b) + ", credit " + num(r.credit) +
+                          ", " + num(r.wallSeconds) + " s of chains (lt-gradient --from-paths)");
+    }
+    if (c.kind == lt::file::FileKind::Paths && (c.rounds.empty() || !c.paths.empty())) {
         const lt::PathStatistics s = lt::pathStatistics(c.paths);
         row("paths", std::to_string(s.count) + (s.count ? ", weight " + summaryText(s.weight) : ""));
         if (histogram) {
@@ -494,10 +526,10 @@ int main(int argc, char** argv) {
             if (manifold) {
                 if (json) throw lt::Error("--manifold prints text only");
                 const auto& info = f.info;
-                const std::string scenePath =
-                    !manifoldScene.empty() ? manifoldScene
-                    : info.contains("scene") && info["scene"].is_object() ? info["scene"].value("path", std::string())
-                                                                          : std::string();
+                const std::string scenePath = !manifoldScene.empty() ? manifoldScene
+                                              : info.contains("scene") && info["scene"].is_object()
+                                                  ? info["scene"].value("path", std::string())
+                                                  : std::string();
                 if (scenePath.empty()) throw lt::Error(f.name + ": names no scene; give it with --scene");
                 const auto scene =
                     lt::loadScene(scenePath, lt::tool::parseDefines(defines), lt::tool::unknownProperties(strict));

@@ -10,6 +10,7 @@
 #include "common/info.h"
 #include "common/interrupt.h"
 #include "common/progress.h"
+#include "common/chain_stream_writer.h"
 #include "common/run_output.h"
 #include "common/scene_options.h"
 #include "common/tool.h"
@@ -39,7 +40,7 @@ int main(int argc, char** argv) {
                  "statistics and stores them in the output. Ctrl-C stops early and still writes a valid file.",
                  "lt-mutate"};
     std::string scenePath, seedsPath, out, space = "path", resolution, snapshotTimes, snapshotMutations,
-                                           strategies = "auto", dumpPaths;
+                                           strategies = "auto", dumpPaths, streamPath;
     uint64_t mutations = 0, seed = 0, startupSamples = 0;
     double timeLimit = 0, mutationsPerPixel = 0, largeStep = 0.3, refineB = 1.0 / 16, lambda = 50, hsltGamma = 0.1,
            hsltStratify = 0.02;
@@ -121,6 +122,10 @@ int main(int argc, char** argv) {
                    "trace plots and lt-inspect; rngStream = chain, rngOffset = mutation");
     app.add_option("--dump-every", dumpEvery, "with --dump-paths: K (mutations of a chain between dumped states)")
         ->check(lt::tool::PositiveNumber);
+    app.add_option("--stream", streamPath,
+                   "path space: write the chain-state stream to a paths file (.ltp, or - for stdout): every state the "
+                   "image credited, with its credit, f, f* and each round's mutation count and b, for lt-gradient "
+                   "--from-paths (CHST chunks, formats/SPEC.md)");
     app.add_option("-D,--define", defines, "scene parameter NAME=VALUE, overriding the scene's <default>")
         ->type_name("NAME=VALUE");
     bool strict = false;
@@ -130,7 +135,11 @@ int main(int argc, char** argv) {
     return lt::tool::run(app, argc, argv, [&] {
         if (!dumpPaths.empty() && space != "path") throw lt::Error("--dump-paths needs --space path");
         if (dumpPaths.empty() != (dumpEvery == 0)) throw lt::Error("--dump-paths and --dump-every go together");
-        if (dumpPaths == "-" && out == "-") throw lt::Error("only one of -o and --dump-paths can be stdout");
+        if (!streamPath.empty() && space != "path") throw lt::Error("--stream needs --space path");
+        if (int(out == "-") + int(dumpPaths == "-") + int(streamPath == "-") > 1)
+            throw lt::Error("only one of -o, --dump-paths and --stream can be stdout");
+        if (!streamPath.empty() && (streamPath == out || streamPath == dumpPaths))
+            throw lt::Error("--stream needs a file of its own");
         lt::requireChainMemory(chains); // before the scene and the start-up, which keeps 4 seeds per chain
         if (space != "path" && app.count("--strategies") && strategies != "auto")
             throw lt::Error("--strategies selects path-space mutations; --space " + space +
@@ -272,6 +281,14 @@ int main(int argc, char** argv) {
             dump.every = dumpEvery;
             dump.write = [&](std::vector<lt::file::PathRecord>& records) { dumpWriter->writePaths(records); };
         }
+        std::optional<lt::tool::ChainStreamWriter> streamWriter;
+        if (!streamPath.empty()) {
+            streamWriter.emplace(streamPath, lt::tool::makeInfo("lt-mutate", argc, argv, params, scene.get()));
+            dump.writeRound = [&](const lt::file::ChainRound& figures,
+                                  std::vector<lt::file::EncodedChainStates>&& states) {
+                streamWriter->writeRound(figures, std::move(states));
+            };
+        }
 
         lt::tool::installInterruptHandler();
         lt::tool::Progress progress("lt-mutate", quiet);
@@ -321,6 +338,11 @@ int main(int argc, char** argv) {
             stats = lt::runPathSpaceChains(*scene, seeds, mix, rs, ps.paths, refineB, film, onProgress,
                                            &lt::tool::stopRequested(), onSnapshot, dump);
             if (dumpWriter) dumpWriter->finish();
+            if (streamWriter)
+                streamWriter->finish(
+                    lt::file::valueTable("normalization", {{"b", stats.normalization.b()},
+                                                           {"b_samples", double(stats.normalization.samples())},
+                                                           {"mutations", double(stats.mutations)}}));
         } else {
             stats = lt::runPrimarySpaceChains(*scene, ps, rs, film, onProgress, &lt::tool::stopRequested(), onSnapshot);
         }

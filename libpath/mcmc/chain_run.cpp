@@ -29,8 +29,9 @@ void ChainRunner::assignQuotas(std::vector<std::unique_ptr<MarkovChain>>& chains
         chains[c]->quota = run_.mutations > 0 ? run_.mutations / n + (c < run_.mutations % n) : ~uint64_t(0);
 }
 
-void ChainRunner::run(std::vector<std::unique_ptr<MarkovChain>>& chains, ChainRunStats& stats,
-                      const std::function<void(MarkovChain&)>& afterRound) {
+void ChainRunner::run(
+    std::vector<std::unique_ptr<MarkovChain>>& chains, ChainRunStats& stats,
+    const std::function<void(std::vector<std::unique_ptr<MarkovChain>>&, const RoundEnd&)>& afterRound) {
     const int threads = run_.threads > 0 ? run_.threads : tbb::this_task_arena::max_concurrency();
     tbb::task_arena arena(threads);
     const double pixels = double(film_.width()) * double(film_.height());
@@ -67,11 +68,13 @@ void ChainRunner::run(std::vector<std::unique_ptr<MarkovChain>>& chains, ChainRu
             splats.push_back(&images[c].splats());
             roundMutations += done[c];
             stats.normalization.take(chains[c]->normalization);
-            if (afterRound) afterRound(*chains[c]);
         }
         arena.execute([&] { film_.mergeSplats(splats, roundMutations); });
         mutations_ += roundMutations;
         const double wall = elapsed();
+        if (afterRound)
+            afterRound(chains,
+                       {mutations_, stats.normalization.b(), stats.normalization.samples(), wall, clock_.cpuSeconds()});
         double fraction = run_.mutations > 0 ? double(mutations_) / double(run_.mutations) : -1;
         if (run_.timeLimit > 0) fraction = std::max(fraction, std::min(1.0, wall / run_.timeLimit));
         if (snapshot_ && schedule.due(wall, double(mutations_) / pixels)) {

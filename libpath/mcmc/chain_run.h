@@ -58,6 +58,14 @@ struct ChainRunStats : RunRecord {
     MutationStatistics strategies;
 };
 
+// The run's figures at the end of a round (the chain-state stream's round header, file::ChainRound).
+struct RoundEnd {
+    uint64_t mutations = 0; // all chains' so far
+    double b = 0;           // the normalization as it then stands
+    uint64_t bSamples = 0;
+    double wallSeconds = 0, cpuSeconds = 0;
+};
+
 // One Markov chain, whatever its state space.
 class MarkovChain {
 public:
@@ -97,9 +105,9 @@ public:
     // merge in chain order with b = 1 (ChainImage), and their samples of b join stats.normalization (which
     // holds the start-up's), by which snapshots and the end read the film. Fills the times, counts and
     // statistics of `stats` (which must carry the strategy names).
-    // `afterRound`, when given, sees every chain after each round's merge, in chain order.
+    // `afterRound`, when given, sees the chains after each round's merge, with the run's figures then.
     void run(std::vector<std::unique_ptr<MarkovChain>>& chains, ChainRunStats& stats,
-             const std::function<void(MarkovChain&)>& afterRound = {});
+             const std::function<void(std::vector<std::unique_ptr<MarkovChain>>&, const RoundEnd&)>& afterRound = {});
     // Close `stats` for a run that ends without chains (interrupted during start-up).
     void finish(ChainRunStats& stats) const;
 

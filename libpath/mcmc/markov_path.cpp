@@ -109,6 +109,30 @@ file::PathRecord toPathRecord(const Scene& scene, const MarkovPath& path, uint64
     return rec;
 }
 
+void toChainState(const MarkovPath& path, uint32_t chain, double credit, file::ChainState& s) {
+    s.chain = chain;
+    s.credit = credit;
+    s.raster = {float(path.raster.x), float(path.raster.y)};
+    s.f = {float(path.f.r), float(path.f.g), float(path.f.b)};
+    s.target = float(path.target);
+    s.vertices.resize(path.v.size());
+    for (size_t i = 0; i < path.v.size(); ++i) {
+        const PathVertex& v = path.v[i];
+        file::VertexRecord& r = s.vertices[i];
+        r.kind = i == 0 ? file::VertexKind::Light
+                        : (i + 1 == path.v.size() ? file::VertexKind::Camera : file::VertexKind::Surface);
+        r.lobe = isSpecular(v) ? uint8_t(v.lobe | LobeDelta) : uint8_t(v.lobe & ~LobeDelta);
+        r.shape = v.si.shape;
+        r.prim = v.si.prim;
+        r.coords = {v.si.coords.x, v.si.coords.y};
+        if (i == 0) {
+            r.light = v.emitterIndex;
+            r.p = {v.si.p.x, v.si.p.y, v.si.p.z};
+            r.ng = {float(v.si.ng.x), float(v.si.ng.y), float(v.si.ng.z)};
+        }
+    }
+}
+
 double densityFromLight(const Scene& scene, const std::vector<PathVertex>& v, size_t i) {
     // A directional light's direction is a delta: choosing the emitter is all there is to it.
     if (i == 0 && v[0].infinite && v[0].isDeltaLight()) return scene.emitterSelection.pmf(size_t(v[0].emitterIndex));

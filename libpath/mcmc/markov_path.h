@@ -58,6 +58,12 @@ struct MarkovPath {
 [[nodiscard]] file::PathRecord toPathRecord(const Scene& scene, const MarkovPath& path, uint64_t chain,
                                             uint64_t mutation);
 
+// A chain's state as the chain-state stream holds it (lt-mutate --stream, file::ChainState): what re-creates
+// its vertices (the lobe bits mark the specular ones exactly, as in toPathRecord), raster, f, f* and the
+// credit the image gave it.
+// `out`'s storage is reused: the chains fill one record per state they credit.
+void toChainState(const MarkovPath& path, uint32_t chain, double credit, file::ChainState& out);
+
 // The path of a stored seed record (lt-seed --paths), re-created in `scene` from shape, primitive and
 // barycentrics, then evaluated. Throws lt::Error naming the record when it does not fit the scene.
 [[nodiscard]] MarkovPath pathFromRecord(const Scene& scene, const file::PathRecord& record, size_t index);

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <optional>
+#include <utility>
 
 #include "math/error.h"
 #include "sampling/render.h"
@@ -22,11 +23,11 @@ class PathSpaceChain final : public MarkovChain {
 public:
     // `refine`: the BDPT sampler and film of the run's samples of b, one every `refineEvery` mutations.
     PathSpaceChain(const Scene& scene, const std::vector<WeightedMutation>& mutations, MarkovPath start, Pcg32 rng,
-                   uint64_t index, uint64_t dumpEvery, const Bdpt* refine, const SampleFilm& film, uint64_t refineEvery,
-                   uint64_t refineSeed)
+                   uint64_t index, uint64_t dumpEvery, bool stream, const Bdpt* refine, const SampleFilm& film,
+                   uint64_t refineEvery, uint64_t refineSeed)
         : scene_(scene), mutations_(mutations), x_(std::move(start)), rng_(rng), stats_(names(mutations)),
-          index_(index), dumpEvery_(dumpEvery), refine_(refine), film_(film), refineEvery_(refineEvery),
-          refineSeed_(refineSeed) {
+          index_(index), dumpEvery_(dumpEvery), stream_(stream), refine_(refine), film_(film),
+          refineEvery_(refineEvery), refineSeed_(refineSeed) {
         position_.contributions = x_.contribution();
         position_.target = x_.target;
     }
@@ -54,6 +55,7 @@ public:
             if (proposal_.failed) {
                 ++k.rejected[size_t(*proposal_.failed)];
                 position_.step(none, 0, 0, false, image);
+                held_ += 1;
             } else {
                 // Q times the selection probability at each state (suitability can differ between x and y).
                 const double w = mutations_[m].weight;
@@ -65,6 +67,7 @@ public:
                 const bool move = rng_.nextDouble() < a;
                 auto c = proposal_.y.contribution();
                 position_.step(c, proposal_.y.target, a, move, image);
+                if (stream_) streamStep(a, move);
                 if (move) {
                     std::swap(x_, proposal_.y);
                     ++k.accepted;
@@ -79,6 +82,8 @@ public:
                 normalization.add(0, bdptSampleOfB(*refine_, film_, refineSeed_, count / refineEvery_));
         }
         position_.flush(image);
+        if (stream_ && held_ > 0) emit(x_, held_);
+        held_ = 0;
         return i;
     }
 
@@ -89,6 +94,7 @@ public:
     }
 
     std::vector<file::PathRecord>& dumped() { return dumped_; }
+    file::EncodedChainStates& streamed() { return streamed_; }
 
     static std::vector<std::string> names(const std::vector<WeightedMutation>& mutations) {
         std::vector<std::string> out;
@@ -98,6 +104,22 @@ public:
     }
 
 private:
+    // The stream's records of one Metropolis step, as ChainPosition credits the image (path_space_chains.h
+    // PathDump): called before the chain moves to the proposal.
+    void streamStep(double a, bool move) {
+        held_ += 1 - a;
+        if (!move) {
+            if (a > 0 && proposal_.y.target > 0) emit(proposal_.y, a);
+            return;
+        }
+        if (held_ > 0) emit(x_, held_);
+        held_ = a;
+    }
+    void emit(const MarkovPath& p, double credit) {
+        toChainState(p, uint32_t(index_), credit, scratch_);
+        streamed_.add(scratch_);
+    }
+
     double selectionMass(const MarkovPath& p) const {
         double sum = 0;
         for (const auto& m : mutations_)
@@ -114,6 +136,10 @@ private:
     MutationStatistics stats_;
     uint64_t index_, dumpEvery_;
     std::vector<file::PathRecord> dumped_;
+    bool stream_;
+    double held_ = 0; // the stream's credit of the current state so far
+    file::ChainState scratch_;
+    file::EncodedChainStates streamed_;
     const Bdpt* refine_;
     const SampleFilm& film_;
     uint64_t refineEvery_, refineSeed_;
@@ -217,7 +243,7 @@ ChainRunStats runPathSpaceChains(const Scene& scene, const PathSpaceSeeds& seeds
             try {
                 chains.push_back(std::make_unique<PathSpaceChain>(
                     scene, mutations, pathFromRecord(scene, seeds.paths[i], i), rng, uint64_t(c), dump.every,
-                    refine ? &*refine : nullptr, film, refineEvery,
+                    bool(dump.writeRound), refine ? &*refine : nullptr, film, refineEvery,
                     mixBits(mixBits(run.seed ^ 0xb5a3b5a3ULL) + uint64_t(c))));
                 break;
             } catch (const Error& e) {
@@ -230,12 +256,19 @@ ChainRunStats runPathSpaceChains(const Scene& scene, const PathSpaceSeeds& seeds
     stats.unusableSeeds = unusable;
     stats.startupSeconds = runner.elapsed();
     runner.assignQuotas(chains);
-    std::function<void(MarkovChain&)> afterRound;
-    if (dump.every && dump.write)
-        afterRound = [&](MarkovChain& c) {
-            auto& records = static_cast<PathSpaceChain&>(c).dumped();
-            if (!records.empty()) dump.write(records);
-            records.clear();
+    std::function<void(std::vector<std::unique_ptr<MarkovChain>>&, const RoundEnd&)> afterRound;
+    if ((dump.every && dump.write) || dump.writeRound)
+        afterRound = [&](std::vector<std::unique_ptr<MarkovChain>>& all, const RoundEnd& end) {
+            std::vector<file::EncodedChainStates> states;
+            for (auto& c : all) {
+                auto& chain = static_cast<PathSpaceChain&>(*c);
+                if (dump.every && dump.write && !chain.dumped().empty()) dump.write(chain.dumped());
+                chain.dumped().clear();
+                states.push_back(std::exchange(chain.streamed(), {}));
+            }
+            if (dump.writeRound)
+                dump.writeRound({end.mutations, end.b, end.bSamples, end.wallSeconds, end.cpuSeconds, {}},
+                                std::move(states));
         };
     runner.run(chains, stats, afterRound);
     return stats;

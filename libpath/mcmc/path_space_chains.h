@@ -54,11 +54,18 @@ struct PathSpaceSeeds {
 [[nodiscard]] PathSpaceSeeds seedWithBdpt(const Scene& scene, const PathSettings& bdpt, uint64_t samples, size_t keep,
                                           uint64_t seed, int threads, const std::atomic<bool>* stop);
 
-// Every `every`-th state of each chain (counting its mutations), handed over in chain order after each
-// round: lt-mutate --dump-paths, for trace plots and lt-inspect.
+// What the chains hand over after each round, in chain order:
+// * every `every`-th state of each chain (counting its mutations): lt-mutate --dump-paths, for trace plots
+//   and lt-inspect;
+// * with `writeRound`, the chain-state stream (lt-mutate --stream): every state the image credited, with its
+//   credit, so that an estimator downstream (lt-gradient --from-paths) sees the chains' samples exactly as
+//   the image does. A proposal rejected with a > 0 is one record (credit a); a state the chain moved to is one
+//   record when it leaves or the round ends (credit a when proposed, plus 1 - a of every proposal made from
+//   it, as mcmc/metropolis.h ChainPosition credits it).
 struct PathDump {
     uint64_t every = 0; // 0: none
     std::function<void(std::vector<file::PathRecord>&)> write;
+    std::function<void(const file::ChainRound& figures, std::vector<file::EncodedChainStates>&& states)> writeRound;
 };
 
 // Renders into `film`. `refineB`: independent BDPT samples (with `bdpt`, the seed run's settings) per

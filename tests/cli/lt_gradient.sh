@@ -54,6 +54,31 @@ check "Ctrl-C: exit code 130, a complete file" '[ $code -eq 130 ] && [ "$(tail -
 sleep 2; kill -TERM $pid; wait $pid; code=$?
 check "SIGTERM: exit code 143, a complete file" '[ $code -eq 143 ] && [ "$(tail -c 16 "$tmp/term.lts" | head -c 4)" = "END!" ]'
 
+# Gradient-domain MLT: lt-mutate's chain-state stream through the gradient stage into lt-reconstruct, in one
+# pipeline; a cut or damaged stream, another scene's stream and the path tracers' options are refused.
+"$bin/lt-mutate" "$scene" --mutations-per-pixel 16 --seed 2 -o "$tmp/mlt.lts" --stream - -q |
+  "$bin/lt-gradient" "$scene" --from-paths - --snapshots 0.001 -o - -q | "$bin/lt-reconstruct" - -o "$tmp/gdmlt.lts" -q
+codes="${PIPESTATUS[*]}"
+check "gdmlt: lt-mutate --stream | lt-gradient --from-paths | lt-reconstruct" \
+  '[ "$codes" = "0 0 0" ] && [ "$(chunks "$tmp/gdmlt.lts" | grep -c "BUFR\|SNAP")" -ge 2 ]'
+"$bin/lt-mutate" "$scene" --mutations-per-pixel 16 --seed 2 -o "$tmp/mlt.lts" --stream "$tmp/stream.ltp" -q
+check "the stream: chain-state chunks that lt-inspect lists" '"$bin/lt-inspect" "$tmp/stream.ltp" | grep -q CHST'
+head -c $(( $(stat -c %s "$tmp/stream.ltp") * 2 / 3 )) "$tmp/stream.ltp" > "$tmp/cut.ltp"
+out=$("$bin/lt-gradient" "$scene" --from-paths "$tmp/cut.ltp" -o "$tmp/x.lts" 2>&1); code=$?
+check "a cut stream: one error line naming it" \
+  '[ $code -ne 0 ] && [ "$(echo "$out" | wc -l)" -eq 1 ] && echo "$out" | grep -q "cut.ltp.*truncated"'
+python3 -c "
+import sys; b = bytearray(open(sys.argv[1], 'rb').read()); b[len(b) // 2] ^= 0x40; open(sys.argv[2], 'wb').write(b)
+" "$tmp/stream.ltp" "$tmp/bad.ltp"
+out=$("$bin/lt-gradient" "$scene" --from-paths "$tmp/bad.ltp" -o "$tmp/x.lts" 2>&1); code=$?
+check "a damaged stream: one error line naming it" \
+  '[ $code -ne 0 ] && [ "$(echo "$out" | wc -l)" -eq 1 ] && echo "$out" | grep -q "bad.ltp"'
+out=$("$bin/lt-gradient" "$src/scenes/cornell-box/scene.xml" --from-paths "$tmp/stream.ltp" -o "$tmp/x.lts" 2>&1)
+code=$?
+check "another scene's stream: refused" '[ $code -ne 0 ] && echo "$out" | grep -q "made for scene"'
+out=$("$bin/lt-gradient" "$scene" --from-paths "$tmp/stream.ltp" --spp 4 -o "$tmp/x.lts" 2>&1); code=$?
+check "--spp with --from-paths: refused" '[ $code -ne 0 ] && echo "$out" | grep -q "not an option of --from-paths"'
+
 out=$("$bin/lt-gradient" "$scene" --method gpt --tile 4 -o "$tmp/x.lts" 2>&1); code=$?
 check "--tile with gpt: refused in one line" '[ $code -ne 0 ] && [ "$(echo "$out" | wc -l)" -eq 1 ] && echo "$out" | grep -q gdpr'
 out=$("$bin/lt-gradient" "$scene" --method bdpt -o "$tmp/x.lts" 2>&1); code=$?

@@ -1,0 +1,138 @@
+#include "gradient/chain_stream.h"
+
+#include <chrono>
+#include <exception>
+
+#include "gradient/chain_gradient.h"
+#include "math/error.h"
+#include "scene/accel.h"
+#include "scene/scene.h"
+
+#include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/task_arena.h>
+
+namespace lt {
+
+namespace {
+
+// The four planes of chain_gradient.h, each a splat film read with the same b / N.
+class PlaneFilms {
+public:
+    explicit PlaneFilms(const Scene& scene)
+        : films_{SampleFilm(scene.camera), SampleFilm(scene.camera), SampleFilm(scene.camera),
+                 SampleFilm(scene.camera)} {}
+
+    [[nodiscard]] const PixelRect& window() const { return films_[0].window(); }
+
+    void merge(const std::vector<ChainGradientSplats>& blocks, uint64_t mutations) {
+        for (size_t p = 0; p < films_.size(); ++p) {
+            std::vector<const std::vector<Splat>*> lists;
+            for (const auto& b : blocks)
+                lists.push_back(p == 0 ? &b.primal : p == 1 ? &b.dx : p == 2 ? &b.dy : &b.direct);
+            films_[p].mergeSplats(lists, mutations);
+        }
+    }
+
+    // The planes as formats/SPEC.md "Gradient-domain channels" names them, read with b.
+    [[nodiscard]] file::Buffer buffer(double b) const {
+        static const char* names[] = {"primal", "dx", "dy", "direct"};
+        file::Buffer out;
+        out.width = uint32_t(films_[0].width());
+        out.height = uint32_t(films_[0].height());
+        for (size_t p = 0; p < films_.size(); ++p) {
+            const std::vector<float> rgb = films_[p].develop(b);
+            for (size_t c = 0; c < 3; ++c) {
+                out.channels.push_back(std::string(names[p]) + "." + "RGB"[c]);
+                std::vector<float> plane(rgb.size() / 3);
+                for (size_t i = 0; i < plane.size(); ++i)
+                    plane[i] = rgb[3 * i + c];
+                out.planes.push_back(std::move(plane));
+            }
+        }
+        out.weight = double(films_[0].lightPaths());
+        return out;
+    }
+
+private:
+    std::array<SampleFilm, 4> films_;
+};
+
+} // namespace
+
+ChainStreamStats gradientsFromStream(const Scene& scene, file::Reader& stream, const ChainStreamSettings& settings,
+                                     file::Buffer& result, ShiftStatistics& shifts, const RunProgressCallback& progress,
+                                     const RunSnapshotCallback& snapshot, const std::atomic<bool>* stop) {
+    const int threads = settings.threads > 0 ? settings.threads : tbb::this_task_arena::max_concurrency();
+    tbb::task_arena arena(threads);
+    PlaneFilms films(scene);
+    const double pixels = double(films.window().area());
+    SnapshotSchedule schedule = settings.snapshots;
+    RunClock clock;
+    ChainStreamStats stats;
+    constexpr size_t Block = 256;
+    std::vector<ChainGradientSplats> blocks;
+    std::atomic<uint64_t> nonFinite{0};
+    for (;;) {
+        if (stop && stop->load()) {
+            stats.interrupted = true;
+            break;
+        }
+        file::Chunk chunk = stream.next();
+        if (std::holds_alternative<file::End>(chunk)) break;
+        auto* round = std::get_if<file::ChainRound>(&chunk);
+        if (!round) continue; // a dump's PATH batches or the tables: not estimates
+        if (round->mutations < stats.mutations)
+            throw Error(stream.name() + ": round " + std::to_string(stats.rounds + 1) + " counts " +
+                        std::to_string(round->mutations) + " mutations, fewer than the round before (" +
+                        std::to_string(stats.mutations) + ")");
+        if (!(round->b > 0) || !std::isfinite(round->b))
+            throw Error(stream.name() + ": round " + std::to_string(stats.rounds + 1) +
+                        " has normalization b = " + std::to_string(round->b));
+        const auto t0 = std::chrono::steady_clock::now();
+        const size_t n = round->states.size();
+        blocks.assign((n + Block - 1) / Block, {});
+        std::exception_ptr failure;
+        arena.execute([&] {
+            tbb::parallel_for(size_t(0), blocks.size(), [&](size_t k) {
+                for (size_t i = k * Block; i < std::min(n, (k + 1) * Block); ++i) {
+                    try {
+                        if (!addChainState(scene, films.window(), round->states[i], settings.shiftThreshold, blocks[k],
+                                           &shifts))
+                            ++nonFinite;
+                    } catch (const Error& e) {
+                        throw Error(stream.name() + ": round " + std::to_string(stats.rounds + 1) + ", state " +
+                                    std::to_string(i) + ": " + e.what());
+                    }
+                }
+                EmbreeAccel::flushRayCount();
+            });
+            films.merge(blocks, round->mutations - stats.mutations);
+        });
+        stats.ownSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        ++stats.rounds;
+        stats.states += n;
+        stats.mutations = round->mutations;
+        stats.b = round->b;
+        stats.bSamples = round->bSamples;
+        stats.chainWallSeconds = round->wallSeconds;
+        stats.chainCpuSeconds = round->cpuSeconds;
+        RunProgress p = clock.progress("gradients", -1, stats.mutations, 0);
+        p.wallSeconds = stats.chainWallSeconds + stats.ownSeconds;
+        p.cpuSeconds += stats.chainCpuSeconds;
+        p.b = stats.b;
+        if (snapshot && schedule.due(p.wallSeconds, double(stats.mutations) / pixels))
+            clock.snapshot(
+                snapshot, p, [&] { return films.buffer(stats.b); }, stats);
+        if (progress) progress(p);
+    }
+    if (stats.rounds == 0 && !stats.interrupted)
+        throw Error(stream.name() + ": no chain states (CHST chunks); write the stream with lt-mutate --stream");
+    clock.close(stats);
+    stats.wallSeconds = stats.chainWallSeconds + stats.ownSeconds;
+    stats.cpuSeconds += stats.chainCpuSeconds;
+    stats.health.nonFinite += nonFinite.load();
+    result = films.buffer(stats.b);
+    return stats;
+}
+
+} // namespace lt

@@ -1,0 +1,43 @@
+// The gradient stage of gradient-domain MLT (lt-gradient --from-paths): reads a chain-state stream
+// (lt-mutate --stream, formats/SPEC.md "CHST") round by round and estimates the primal image, its forward
+// differences and the directly seen emitters from the chains' states (gradient/chain_gradient.h), read with
+// b / N as the stream stood after each round. States are processed in parallel in blocks and merged in stream
+// order, so the result does not depend on the thread count.
+#pragma once
+
+#include <atomic>
+
+#include "formats/ltfile.h"
+#include "gradient/gradient_settings.h"
+#include "image/snapshot_schedule.h"
+#include "sampling/run_clock.h"
+
+namespace lt {
+
+class Scene;
+
+struct ChainStreamSettings {
+    double shiftThreshold = 0.001;
+    int threads = 0; // 0: all cores
+    SnapshotSchedule snapshots;
+};
+
+// Times: a snapshot's (and the run's) wall and CPU seconds are the chains' (the round's figures in the stream)
+// plus this stage's own work on the rounds so far (time spent waiting for input left out): what the image cost
+// had the two stages run one after the other.
+struct ChainStreamStats : RunRecord {
+    uint64_t rounds = 0, states = 0, mutations = 0;
+    double b = 0;
+    uint64_t bSamples = 0;
+    double chainWallSeconds = 0, chainCpuSeconds = 0; // of the last round read
+    double ownSeconds = 0;                            // this stage's work
+};
+
+// Reads `stream` to its END! (or until `stop`) and writes the planes primal, dx, dy, direct into `result`.
+// Throws lt::Error naming the stream for a state that does not fit the scene, a stream without rounds, or
+// damage (the reader's).
+ChainStreamStats gradientsFromStream(const Scene& scene, file::Reader& stream, const ChainStreamSettings& settings,
+                                     file::Buffer& result, ShiftStatistics& shifts, const RunProgressCallback& progress,
+                                     const RunSnapshotCallback& snapshot, const std::atomic<bool>* stop);
+
+} // namespace lt

@@ -114,16 +114,6 @@ ChainShifts shiftChainState(const Scene& scene, const PixelRect& window, const s
     return out;
 }
 
-double gradientTarget(const Spectrum& f, const ChainShifts& shifts, double alpha) {
-    double sum = alpha * f.luminance();
-    for (size_t k = 0; k < 4; ++k)
-        if (shifts.onFilm[k]) {
-            const Spectrum d = shifts.F[k] - f;
-            sum += Spectrum(std::abs(d.r), std::abs(d.g), std::abs(d.b)).luminance();
-        }
-    return std::max(sum, 1e-3 * alpha * f.maxValue());
-}
-
 bool addChainState(const Scene& scene, const PixelRect& window, const file::ChainState& state, double shiftThreshold,
                    ChainGradientSplats& out, ShiftStatistics* stats) {
     const Spectrum f(state.f[0], state.f[1], state.f[2]);

@@ -58,11 +58,6 @@ struct ChainShifts {
                                           const Vec2& raster, const Spectrum& f, double shiftThreshold,
                                           ShiftStatistics* stats);
 
-// GDMLT's target (Lehtinen et al. 2013, Sec. 5.1; the survey's Eq. 29 summed over the four pairs): the
-// luminance of the four differences plus alpha times the primal luminance, sum_k lum|F_k - f| + alpha lum f,
-// floored like targetValue so that no path that carries light has f* = 0.
-[[nodiscard]] double gradientTarget(const Spectrum& f, const ChainShifts& shifts, double alpha);
-
 // One state's splats, not yet scaled by b / N: the film's planes. Splat values carry credit / (f* pixels), as
 // the chains' own image (mcmc/metropolis.h ChainImage).
 struct ChainGradientSplats {

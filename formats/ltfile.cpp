@@ -881,6 +881,7 @@ FileKind Reader::kind() const { return impl_->kind; }
 uint32_t Reader::version() const { return impl_->version; }
 const nlohmann::json& Reader::info() const { return impl_->info; }
 const std::string& Reader::name() const { return impl_->name; }
+bool Reader::regularFile() const { return impl_->fileSize.has_value(); }
 
 // ---- convenience -------------------------------------------------------------------------------
 

@@ -94,6 +94,8 @@ public:
     [[nodiscard]] uint32_t version() const;
     [[nodiscard]] const nlohmann::json& info() const;
     [[nodiscard]] const std::string& name() const;   // the path, or "<stdin>"
+    // Whether it reads a regular file (else a pipe or a terminal: a stream written while it is read).
+    [[nodiscard]] bool regularFile() const;
 
 private:
     struct Impl;

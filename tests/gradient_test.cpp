@@ -13,7 +13,8 @@
 #include "bsdf/half_vector.h"
 #include "bsdf/roughconductor.h"
 #include "bsdf/roughdielectric.h"
-#include "gradient/chain_stream.h"
+#include "mcmc/chain_gradient.h"
+#include "mcmc/chain_stream.h"
 #include "gradient/gradient_path_tracer.h"
 #include "gradient/path_reusing.h"
 #include "math/rng.h"
@@ -23,6 +24,7 @@
 #include "reconstruct/screened_poisson.h"
 #include "sampling/render.h"
 #include "scene/scene.h"
+#include "chain_runs.h"
 #include "test_util.h"
 #include "texture/texture.h"
 
@@ -772,16 +774,18 @@ TEST_CASE("the variance planes hold the sample variance of the passes' values", 
 namespace {
 
 // A path-space MLT run whose chain-state stream (lt-mutate --stream) is written to `file`, and the chains' own
-// image; then the stream read back by the gradient stage (lt-gradient --from-paths).
+// image; then the stream read back by the gradient stage (lt-gradient --from-paths). With a `target` (lt-mutate
+// --target gradient) the chains, their seeds and b are that target's.
 struct StreamedRun {
     std::vector<float> chainImage;
     double b = 0;
     file::Buffer gradients;
 };
-StreamedRun runStreamedChains(const Scene& scene, const std::string& file, uint64_t mutations, uint64_t seed) {
+StreamedRun runStreamedChains(const Scene& scene, const std::string& file, uint64_t mutations, uint64_t seed,
+                              const PathTarget& target = {}) {
     PathSettings bdpt;
     bdpt.maxDepth = scene.integrator.maxDepth;
-    const auto seeds = seedWithBdpt(scene, bdpt, 20000, 1024, seed * 7919 + 1, 2, nullptr);
+    const auto seeds = seedWithBdpt(scene, bdpt, 20000, 1024, seed * 7919 + 1, 2, nullptr, target);
     std::vector<std::unique_ptr<Mutation>> owned;
     std::vector<WeightedMutation> mix;
     makeMutations(chooseMutations("bidirectional,lens", analyzeScene(scene)), scene, {bdpt.maxDepth}, owned, mix);
@@ -801,7 +805,7 @@ StreamedRun runStreamedChains(const Scene& scene, const std::string& file, uint6
                 parts.push_back(&s);
             writer.writeChainRound(figures, parts);
         };
-        const auto st = runPathSpaceChains(scene, seeds, mix, rs, bdpt, 1.0 / 16, film, {}, nullptr, {}, dump);
+        const auto st = runPathSpaceChains(scene, seeds, mix, rs, bdpt, 1.0 / 16, film, {}, nullptr, {}, dump, target);
         REQUIRE(st.health.nonFinite == 0);
         writer.finish();
         out.b = st.normalization.b();
@@ -856,19 +860,24 @@ TEST_CASE("GDMLT: the chain-state stream credits every state as the chains' own 
     }
 }
 
-TEST_CASE("GDMLT: primal and gradients from chain states are unbiased against BDPT", "[gradient][gdmlt]") {
+TEST_CASE("GDMLT: primal and gradients from chain states are unbiased against BDPT, for both targets",
+          "[gradient][gdmlt]") {
     test::TempDir dir;
-    for (const char* name : {"cornell-box", "cornell-spheres"}) {
-        CAPTURE(name);
+    for (const auto& [name, target] :
+         {std::pair{"cornell-box", "luminance"}, std::pair{"cornell-spheres", "luminance"},
+          std::pair{"cornell-box", "gradient"}, std::pair{"cornell-spheres", "gradient"}}) {
+        CAPTURE(name, target);
         const auto scene = loadScene(test::shippedScene(name));
         scene->camera = scene->camera.withResolution(32, 32);
+        const PathTarget chainTarget =
+            std::string(target) == "gradient" ? gradientTarget(*scene, 0.2, 0.001) : PathTarget{};
         const int runs = 16, w = 32, r = 8;
         // Per run: region means of the image (primal + direct), of its forward differences (dx and dy plus the
         // direct plane's differences) and of the L2 reconstruction, as T-GR-3.
         std::array<std::vector<std::vector<double>>, 4> chains;
         for (int run = 0; run < runs; ++run) {
-            const StreamedRun s =
-                runStreamedChains(*scene, (dir.path / "stream.ltp").string(), 32 * 32 * 64, 100 + uint64_t(run));
+            const StreamedRun s = runStreamedChains(*scene, (dir.path / "stream.ltp").string(), 32 * 32 * 64,
+                                                    100 + uint64_t(run), chainTarget);
             const GradientImage g = gradientImageFromBuffer(s.gradients, "test");
             auto image = [&](int x, int y) { return at(g.primal, g.width, x, y) + at(*g.direct, g.width, x, y); };
             chains[0].push_back(regionMeans(w, w, r, image));
@@ -902,5 +911,40 @@ TEST_CASE("GDMLT: primal and gradients from chain states are unbiased against BD
         }
         INFO("the L2 reconstruction");
         checkSameMeans(chains[3], bdpt[0]);
+    }
+}
+
+TEST_CASE("GDMLT: in the furnace the gradient target's chains give zero gradients and the furnace's value",
+          "[gradient][gdmlt]") {
+    test::TempDir dir;
+    const auto scene = loadScene(test::furnaceBox(dir, 0.5, 4));
+    // Le * (1 + rho + rho^2 + rho^3), the directly seen emission in the direct plane.
+    const double expected = 1 + 0.5 + 0.25 + 0.125;
+    const PathTarget target = gradientTarget(*scene, 0.2, 0.001);
+    // Per independent run, the image means of primal + direct, dx and dy (a chain's pixels are correlated, so the
+    // standard errors come from the runs).
+    std::array<std::vector<double>, 3> means;
+    // 12 runs: each |mean - truth| / error is a Student t with 11 degrees of freedom, P(|t| > 5) about 4e-4.
+    for (int run = 0; run < 12; ++run) {
+        const StreamedRun s =
+            runStreamedChains(*scene, (dir.path / "stream.ltp").string(), 24 * 24 * 32, 40 + uint64_t(run), target);
+        const GradientImage g = gradientImageFromBuffer(s.gradients, "test");
+        double image = 0, dx = 0, dy = 0;
+        for (int y = 0; y < int(g.height); ++y)
+            for (int x = 0; x < int(g.width); ++x) {
+                image += (at(g.primal, g.width, x, y) + at(*g.direct, g.width, x, y)).luminance();
+                if (x + 1 < int(g.width)) dx += at(g.dx, g.width, x, y).luminance();
+                if (y + 1 < int(g.height)) dy += at(g.dy, g.width, x, y).luminance();
+            }
+        const double pixels = double(g.width) * double(g.height);
+        means[0].push_back(image / pixels);
+        means[1].push_back(dx / (pixels - g.height));
+        means[2].push_back(dy / (pixels - g.width));
+    }
+    const double truth[3] = {expected, 0, 0};
+    for (int p = 0; p < 3; ++p) {
+        const auto m = test::meanAndError(means[size_t(p)]);
+        CAPTURE(p, m.mean, m.error);
+        CHECK(std::abs(m.mean - truth[p]) <= 5 * m.error + 1e-12);
     }
 }

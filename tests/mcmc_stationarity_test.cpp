@@ -214,12 +214,13 @@ std::vector<double> tabulateTarget(const Bsdf& bsdf, const Spectrum& Le, const s
 // binOf: vertex halfVertex's half of `light` (the light vertex's, unless said) x the cell of vertex `receiver`, which
 // must lie on shape `receiverShape` (or one of the `receiverShapes` from it) of every path of `edges` edges) with
 // the tabulated probabilities `expected`; with `halfByDirection`, the half of `light` its direction toward the sky
-// lies in (a light vertex at infinity). Returns the last mix's statistics.
+// lies in (a light vertex at infinity). With a `target`, the chains (and their seeds) sample it instead of
+// luminance. Returns the last mix's statistics.
 MutationStatistics checkVisits(const Scene& scene, const std::vector<double>& expected,
                                const std::vector<std::string>& mixes, int edges, const Patch& light,
                                const Patch& receiverPatch, size_t receiver, int receiverShape, size_t halfVertex = 0,
                                const std::vector<std::string>& mustMove = {}, int receiverShapes = 1,
-                               uint64_t perChain = 24576, bool halfByDirection = false) {
+                               uint64_t perChain = 24576, bool halfByDirection = false, const PathTarget& target = {}) {
     MutationStatistics last;
     // The manifold perturbation with lambda 5 instead of 50: steps ten times as large, so that each of its
     // stages moves the chains across bins often enough for a wrong factor in it to show.
@@ -241,7 +242,7 @@ MutationStatistics checkVisits(const Scene& scene, const std::vector<double>& ex
     // burn-in is discarded.
     PathSettings bdpt;
     bdpt.maxDepth = edges;
-    const auto seeds = seedWithBdpt(scene, bdpt, 16384, 4096, 17, 2, nullptr);
+    const auto seeds = seedWithBdpt(scene, bdpt, 16384, 4096, 17, 2, nullptr, target);
     const auto regions = testRegions();
     // 64 chains of 24576 mutations per mix (unless said): about 3 s per mix on 2 threads, and every bin's
     // probability known to about 8 % (the marginals' to 1-3 %).
@@ -279,7 +280,7 @@ MutationStatistics checkVisits(const Scene& scene, const std::vector<double>& ex
             }
         };
         SampleFilm film(scene.camera);
-        const auto stats = runPathSpaceChains(scene, seeds, mix, run, bdpt, 0, film, {}, nullptr, {}, dump);
+        const auto stats = runPathSpaceChains(scene, seeds, mix, run, bdpt, 0, film, {}, nullptr, {}, dump, target);
         REQUIRE(stats.mutations == run.mutations);
         REQUIRE(stats.health.nonFinite == 0);
         CHECK(elsewhere == 0);
@@ -397,6 +398,27 @@ TEST_CASE("path-space chains visit a tiny path space in proportion to f*", "[mcm
                 Light, Glossy, 1, 0);
     // HSLT weighted 15 to 1, so that its stationary distribution dominates.
     checkVisits(*scene, expected, {"bidirectional,hslt:15"}, 2, Light, Glossy, 1, 0, 0, {"hslt"});
+}
+
+TEST_CASE("path-space chains sampling a target other than luminance visit a tiny path space in proportion to it",
+          "[mcmc][gdmlt]") {
+    // GDMLT's chains sample their own target: each state's f* is re-evaluated after the mutation built it and
+    // Q = T / f* rescaled (mcmc/path_space_chains.h). Here the target is luminance times a factor of 1, 2 or 3
+    // by bin, a pattern no mutation knows of, so the visits follow it only if the rescaling is right.
+    test::TempDir dir;
+    const auto scene = loadScene(tinyScene(dir));
+    const Bsdf& bsdf = *scene->bsdfs[size_t(scene->shapes[0].bsdf)].bsdf;
+    std::vector<double> expected = tabulateTarget(bsdf, Spectrum(1.0), {Glossy.facet()});
+    const auto factor = [](int bin) { return 1.0 + double(bin % 3); };
+    for (size_t b = 0; b < expected.size(); ++b)
+        expected[b] *= factor(int(b));
+    expected = normalized(std::move(expected));
+    const PathTarget target = [&](const std::vector<PathVertex>& v, const Vec2&, const Spectrum& f) {
+        return v.size() == 3 ? targetValue(f) * factor(binOf(Light, Glossy, v[0].p(), v[1].p())) : targetValue(f);
+    };
+    // Broken on purpose: without the rescaling of Q(x -> y) the chains sample luminance and fail here.
+    checkVisits(*scene, expected, {"bidirectional,lens", "bidirectional,manifold"}, 2, Light, Glossy, 1, 0, 0, {}, 1,
+                24576, false, target);
 }
 
 namespace {

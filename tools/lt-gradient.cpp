@@ -1,5 +1,6 @@
 // lt-gradient: gradient-domain rendering of a scene: the primal image and its forward-difference gradients
 // from shifted paths (G-PT, or gradient-domain path reusing), for lt-reconstruct to turn into the image.
+#include <chrono>
 #include <iomanip>
 #include <iostream>
 
@@ -10,7 +11,7 @@
 #include "common/scene_options.h"
 #include "common/tool.h"
 #include "formats/ltfile.h"
-#include "gradient/chain_stream.h"
+#include "mcmc/chain_stream.h"
 #include "gradient/gradient_path_tracer.h"
 #include "gradient/path_reusing.h"
 #include "sampling/render.h"
@@ -27,8 +28,9 @@ struct StreamOptions {
     bool strict, quiet;
 };
 
-// --from-paths: the gradient stage of gradient-domain MLT (gradient/chain_stream.h).
+// --from-paths: the gradient stage of gradient-domain MLT (mcmc/chain_stream.h).
 int fromChainStream(const CLI::App&, int argc, char** argv, const StreamOptions& o) {
+    const auto start = std::chrono::steady_clock::now();
     auto scene = lt::tool::loadSceneWithOptions("lt-gradient", o.scenePath, o.defines, o.resolution, o.strict, o.quiet);
     lt::file::Reader stream(o.stream, lt::file::FileKind::Paths);
     lt::file::checkSceneHash(stream.info(), scene->contentHash, stream.name(), o.scenePath);
@@ -41,6 +43,7 @@ int fromChainStream(const CLI::App&, int argc, char** argv, const StreamOptions&
     lt::ChainStreamSettings settings;
     settings.shiftThreshold = o.shiftThreshold;
     settings.threads = o.threads;
+    settings.start = start;
     if (!o.snapshotTimes.empty()) settings.snapshots = lt::SnapshotSchedule::parseTimes(o.snapshotTimes);
     nlohmann::json params = {{"method", "chain-states"},
                              {"stream", o.stream},

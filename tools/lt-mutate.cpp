@@ -12,6 +12,7 @@
 #include "common/progress.h"
 #include "common/chain_stream_writer.h"
 #include "common/run_output.h"
+#include "mcmc/chain_gradient.h"
 #include "common/scene_options.h"
 #include "common/tool.h"
 #include "formats/ltfile.h"
@@ -47,7 +48,8 @@ int main(int argc, char** argv) {
     int chains = 256, threads = 0, maxDepth = -2, unbounded = 12, round = 64;
     size_t dumpEvery = 0;
     bool quiet = false;
-    std::string hsltJumps = "off";
+    std::string hsltJumps = "off", target = "luminance";
+    double gradientAlpha = 0.2, shiftThreshold = 0.001;
     std::vector<double> portalRange = {1.0 / 256, 1.0 / 16};
     std::vector<std::string> defines;
     app.add_option("SCENE", scenePath, "Mitsuba 0.5/0.6 scene (.xml)")->required();
@@ -122,6 +124,20 @@ int main(int argc, char** argv) {
                    "trace plots and lt-inspect; rngStream = chain, rngOffset = mutation");
     app.add_option("--dump-every", dumpEvery, "with --dump-paths: K (mutations of a chain between dumped states)")
         ->check(lt::tool::PositiveNumber);
+    app.add_option(
+           "--target", target,
+           "path space: the function the chains sample: luminance (default; MLT) or gradient (gradient-domain "
+           "MLT, Lehtinen et al. 2013: the luminance of the differences to the four neighbouring pixels' "
+           "shifted paths plus --gradient-alpha times the path's own; for --stream and lt-gradient "
+           "--from-paths). b is then that target's integral, from BDPT samples of our own even with a seed file")
+        ->check(CLI::IsMember({"luminance", "gradient"}));
+    app.add_option("--gradient-alpha", gradientAlpha,
+                   "--target gradient: weight of the path's own luminance in the target (default 0.2)")
+        ->check(lt::tool::PositiveNumber);
+    app.add_option("--shift-threshold", shiftThreshold,
+                   "--target gradient: Beckmann roughness at or below which the shift follows a vertex's half vector "
+                   "instead of reconnecting (default 0.001, as lt-gradient)")
+        ->check(lt::tool::NonNegativeNumber);
     app.add_option("--stream", streamPath,
                    "path space: write the chain-state stream to a paths file (.ltp, or - for stdout): every state the "
                    "image credited, with its credit, f, f* and each round's mutation count and b, for lt-gradient "
@@ -136,6 +152,9 @@ int main(int argc, char** argv) {
         if (!dumpPaths.empty() && space != "path") throw lt::Error("--dump-paths needs --space path");
         if (dumpPaths.empty() != (dumpEvery == 0)) throw lt::Error("--dump-paths and --dump-every go together");
         if (!streamPath.empty() && space != "path") throw lt::Error("--stream needs --space path");
+        if (target != "luminance" && space != "path") throw lt::Error("--target " + target + " needs --space path");
+        if (target != "gradient" && (app.count("--gradient-alpha") || app.count("--shift-threshold")))
+            throw lt::Error("--gradient-alpha and --shift-threshold are options of --target gradient");
         if (int(out == "-") + int(dumpPaths == "-") + int(streamPath == "-") > 1)
             throw lt::Error("only one of -o, --dump-paths and --stream can be stdout");
         if (!streamPath.empty() && (streamPath == out || streamPath == dumpPaths))
@@ -224,7 +243,14 @@ int main(int argc, char** argv) {
                                  {"snapshots", snapshotTimes.empty() ? snapshotMutations : snapshotTimes},
                                  {"resolution", {scene->camera.film().width, scene->camera.film().height}},
                                  {"filter", scene->camera.film().filter.name()},
-                                 {"estimator", "expected-value splatting; image = b / N sum f / f* at each state"}};
+                                 {"estimator", "expected-value splatting; image = b / N sum f / f* at each state"},
+                                 {"target", target}};
+        if (target == "gradient") {
+            params["gradient_alpha"] = gradientAlpha;
+            params["shift_threshold"] = shiftThreshold;
+        }
+        const lt::PathTarget pathTarget =
+            target == "gradient" ? lt::gradientTarget(*scene, gradientAlpha, shiftThreshold) : lt::PathTarget{};
         // Path space: the strategies, and the longest path the bidirectional mutation may build.
         const int maxEdges = ps.paths.maxDepth > 0 ? ps.paths.maxDepth : unbounded;
         lt::MutationChoice choice;
@@ -301,10 +327,19 @@ int main(int argc, char** argv) {
                 // No seed file: a BDPT start-up of our own, as lt-seed --paths would make it.
                 progress.update(-1, "seeding with BDPT");
                 seeds = lt::seedWithBdpt(*scene, ps.paths, startupSamples, std::max<size_t>(4 * size_t(chains), 1024),
-                                         seed ^ 0x5eedULL, threads, &lt::tool::stopRequested());
+                                         seed ^ 0x5eedULL, threads, &lt::tool::stopRequested(), pathTarget);
                 if (!quiet)
                     std::cerr << "lt-mutate: seeded with BDPT (" << startupSamples << " samples): b = " << seeds.b.b()
                               << '\n';
+            } else if (pathTarget) {
+                // The seed file's b integrates luminance: the chains start from its paths, b comes from our own.
+                progress.update(-1, "estimating b of the target");
+                seeds.b = lt::seedWithBdpt(*scene, ps.paths, startupSamples, 1, seed ^ 0x5eedULL, threads,
+                                           &lt::tool::stopRequested(), pathTarget)
+                              .b;
+                if (!quiet)
+                    std::cerr << "lt-mutate: b of the " << target << " target from " << startupSamples
+                              << " BDPT samples: " << seeds.b.b() << " (the seed file's paths start the chains)\n";
             }
             lt::MutationSettings settings{maxEdges, lambda};
             settings.hsltGamma = hsltGamma;
@@ -336,7 +371,7 @@ int main(int argc, char** argv) {
             std::vector<lt::WeightedMutation> mix;
             lt::makeMutations(choice, *scene, settings, owned, mix);
             stats = lt::runPathSpaceChains(*scene, seeds, mix, rs, ps.paths, refineB, film, onProgress,
-                                           &lt::tool::stopRequested(), onSnapshot, dump);
+                                           &lt::tool::stopRequested(), onSnapshot, dump, pathTarget);
             if (dumpWriter) dumpWriter->finish();
             if (streamWriter)
                 streamWriter->finish(

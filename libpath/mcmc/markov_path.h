@@ -17,6 +17,7 @@
 // Ratios f~ / p~ then equal BDPT's f / p for every strategy, and f~ / f~* = f / f* for the image.
 #pragma once
 
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -40,6 +41,11 @@ struct MarkovPath {
     // The image contribution: f at the raster position (splatted with the pixel filter).
     [[nodiscard]] std::vector<ImageContribution> contribution() const { return {{raster, f}}; }
 };
+
+// A chain's target function other than luminance (GDMLT's gradient target, mcmc/chain_gradient.h): f* of a
+// path from its vertices (light to eye), raster position and f, positive wherever f is not black (a target that
+// is 0 where f is not would bias the image). Empty: targetValue(f), which evaluatePath sets.
+using PathTarget = std::function<double(const std::vector<PathVertex>& v, const Vec2& raster, const Spectrum& f)>;
 
 // Scattered through a delta lobe (the path's configuration at that vertex).
 [[nodiscard]] inline bool isSpecular(const PathVertex& v) { return v.type == VertexType::Surface && v.delta; }

@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "math/error.h"
+#include "path/path_record.h"
 #include "sampling/render.h"
 #include "sampling/seed_file.h"
 #include "scene/accel.h"
@@ -24,10 +25,11 @@ public:
     // `refine`: the BDPT sampler and film of the run's samples of b, one every `refineEvery` mutations.
     PathSpaceChain(const Scene& scene, const std::vector<WeightedMutation>& mutations, MarkovPath start, Pcg32 rng,
                    uint64_t index, uint64_t dumpEvery, bool stream, const Bdpt* refine, const SampleFilm& film,
-                   uint64_t refineEvery, uint64_t refineSeed)
+                   uint64_t refineEvery, uint64_t refineSeed, const PathTarget& target)
         : scene_(scene), mutations_(mutations), x_(std::move(start)), rng_(rng), stats_(names(mutations)),
           index_(index), dumpEvery_(dumpEvery), stream_(stream), refine_(refine), film_(film),
-          refineEvery_(refineEvery), refineSeed_(refineSeed) {
+          refineEvery_(refineEvery), refineSeed_(refineSeed), target_(target) {
+        if (target_) x_.target = target_(x_.v, x_.raster, x_.f);
         position_.contributions = x_.contribution();
         position_.target = x_.target;
     }
@@ -51,6 +53,13 @@ public:
             ++k.proposed;
             mutations_[m].mutation->propose(x_, rng_, proposal_);
             if (proposal_.walk) k.walks.add(*proposal_.walk);
+            if (target_ && !proposal_.failed) {
+                // Q(x -> y) = T(x -> y) / f*(y) was divided by the f* evaluatePath set; Q(y -> x) already
+                // holds the current state's target.
+                const double t = target_(proposal_.y.v, proposal_.y.raster, proposal_.y.f);
+                proposal_.forwardQ *= proposal_.y.target / t;
+                proposal_.y.target = t;
+            }
             double a = 0;
             if (proposal_.failed) {
                 ++k.rejected[size_t(*proposal_.failed)];
@@ -79,7 +88,8 @@ public:
             const uint64_t count = done + i + 1;
             if (dumpEvery_ && count % dumpEvery_ == 0) dumped_.push_back(toPathRecord(scene_, x_, index_, count));
             if (refine_ && count % refineEvery_ == 0)
-                normalization.add(0, bdptSampleOfB(*refine_, film_, refineSeed_, count / refineEvery_));
+                normalization.add(0,
+                                  bdptSampleOfB(*refine_, film_, refineSeed_, count / refineEvery_, nullptr, target_));
         }
         position_.flush(image);
         if (stream_ && held_ > 0) emit(x_, held_);
@@ -143,6 +153,7 @@ private:
     const Bdpt* refine_;
     const SampleFilm& film_;
     uint64_t refineEvery_, refineSeed_;
+    const PathTarget& target_;
 };
 
 } // namespace
@@ -155,8 +166,15 @@ PathSpaceSeeds seedsFromFile(file::Content&& content) {
     return seeds;
 }
 
+double targetSeedWeight(const SampleFilm& film, const StrategyPath& path, const PathTarget& target) {
+    if (!target) return seedWeight(film, path);
+    if (!(path.misWeight > 0) || path.unweighted.isBlack()) return 0;
+    const double w = path.misWeight * target(joinedVertices(path), path.raster, path.unweighted);
+    return w > 0 && std::isfinite(w) ? seedWeight(film, path, w) : 0.0;
+}
+
 double bdptSampleOfB(const Bdpt& bdpt, const SampleFilm& film, uint64_t seed, uint64_t index,
-                     const StrategyCallback* onPath) {
+                     const StrategyCallback* onPath, const PathTarget& target) {
     thread_local std::vector<Splat> splats;
     SampleHealth health;
     IndependentSampler u(mixBits(mixBits(seed ^ 0x5eedULL) + index), index);
@@ -165,7 +183,7 @@ double bdptSampleOfB(const Bdpt& bdpt, const SampleFilm& film, uint64_t seed, ui
     const int y = window.y0 + std::min(int(u.next1D() * window.height()), window.height() - 1);
     double sum = 0;
     const StrategyCallback collect = [&](const StrategyPath& sp) {
-        sum += seedWeight(film, sp);
+        sum += targetSeedWeight(film, sp, target);
         if (onPath) (*onPath)(sp);
     };
     splats.clear();
@@ -174,7 +192,7 @@ double bdptSampleOfB(const Bdpt& bdpt, const SampleFilm& film, uint64_t seed, ui
 }
 
 PathSpaceSeeds seedWithBdpt(const Scene& scene, const PathSettings& bdpt, uint64_t samples, size_t keep, uint64_t seed,
-                            int threads, const std::atomic<bool>* stop) {
+                            int threads, const std::atomic<bool>* stop, const PathTarget& target) {
     // `samples` BDPT samples at uniformly chosen pixels (not whole passes: on a large image a pass alone
     // would outlast a short run), each with its own keyed stream; candidates and samples of b reach the
     // reservoir and the estimate in sample order, block by block, so nothing depends on the thread count.
@@ -195,8 +213,9 @@ PathSpaceSeeds seedWithBdpt(const Scene& scene, const PathSettings& bdpt, uint64
                 for (uint64_t i = b * Block; i < std::min(samples, (b + 1) * Block); ++i) {
                     const StrategyCallback collect = [&](const StrategyPath& sp) {
                         candidates[size_t(b - wave)].push_back(seedCandidate(scene, film, sp, i, 0));
+                        if (target) candidates[size_t(b - wave)].back().weight = targetSeedWeight(film, sp, target);
                     };
-                    values[size_t(b - wave)].push_back(bdptSampleOfB(sampler, film, seed, i, &collect));
+                    values[size_t(b - wave)].push_back(bdptSampleOfB(sampler, film, seed, i, &collect, target));
                 }
                 EmbreeAccel::flushRayCount();
             });
@@ -216,7 +235,7 @@ ChainRunStats runPathSpaceChains(const Scene& scene, const PathSpaceSeeds& seeds
                                  const std::vector<WeightedMutation>& mutations, const ChainRunSettings& run,
                                  const PathSettings& bdpt, double refineB, SampleFilm& film,
                                  const RunProgressCallback& progress, const std::atomic<bool>* stop,
-                                 const RunSnapshotCallback& snapshot, const PathDump& dump) {
+                                 const RunSnapshotCallback& snapshot, const PathDump& dump, const PathTarget& target) {
     if (run.chains < 1) throw Error("the number of chains must be at least 1");
     if (run.mutations == 0 && !(run.timeLimit > 0)) throw Error("give a number of mutations or a time limit");
     if (mutations.empty()) throw Error("no mutation to run");
@@ -244,7 +263,7 @@ ChainRunStats runPathSpaceChains(const Scene& scene, const PathSpaceSeeds& seeds
                 chains.push_back(std::make_unique<PathSpaceChain>(
                     scene, mutations, pathFromRecord(scene, seeds.paths[i], i), rng, uint64_t(c), dump.every,
                     bool(dump.writeRound), refine ? &*refine : nullptr, film, refineEvery,
-                    mixBits(mixBits(run.seed ^ 0xb5a3b5a3ULL) + uint64_t(c))));
+                    mixBits(mixBits(run.seed ^ 0xb5a3b5a3ULL) + uint64_t(c)), target));
                 break;
             } catch (const Error& e) {
                 ++unusable;

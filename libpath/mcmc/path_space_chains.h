@@ -23,6 +23,7 @@
 #include "formats/ltfile.h"
 #include "formats/records.h"
 #include "mcmc/chain_run.h"
+#include "mcmc/markov_path.h"
 #include "mcmc/mutation.h"
 #include "mcmc/normalization.h"
 #include "sampling/bdpt.h"
@@ -41,18 +42,23 @@ struct PathSpaceSeeds {
 
 // The share of b of one BDPT sample (sum of its strategies' seedWeight times the pixel count) through a
 // uniformly chosen pixel of `film`, with random numbers keyed by (seed, index); `onPath`, when given,
-// sees each strategy path (seedCandidate's input).
+// sees each strategy path (seedCandidate's input). With a `target`, b is the integral of that target.
 [[nodiscard]] double bdptSampleOfB(const Bdpt& bdpt, const SampleFilm& film, uint64_t seed, uint64_t index,
-                                   const StrategyCallback* onPath = nullptr);
+                                   const StrategyCallback* onPath = nullptr, const PathTarget& target = {});
+
+// A strategy path's resampling weight under `target` (seedWeight for luminance): its MIS weight times the
+// target of its vertices with f / p in place of f (every target is proportional to f's scale).
+[[nodiscard]] double targetSeedWeight(const SampleFilm& film, const StrategyPath& path, const PathTarget& target);
 
 // The chains' start: the paths of a seed file (sampling/seed_file.h) and the seed run's b as the first
 // samples of the estimate; throws lt::Error naming the file when b or its sample count is missing.
 [[nodiscard]] PathSpaceSeeds seedsFromFile(file::Content&& content);
 
 // Seed paths from a BDPT run of its own (what lt-seed --paths writes): at least `samples` camera
-// samples (whole passes), `keep` draws.
+// samples (whole passes), `keep` draws. With a `target`, draws and b are those of that target.
 [[nodiscard]] PathSpaceSeeds seedWithBdpt(const Scene& scene, const PathSettings& bdpt, uint64_t samples, size_t keep,
-                                          uint64_t seed, int threads, const std::atomic<bool>* stop);
+                                          uint64_t seed, int threads, const std::atomic<bool>* stop,
+                                          const PathTarget& target = {});
 
 // What the chains hand over after each round, in chain order:
 // * every `every`-th state of each chain (counting its mutations): lt-mutate --dump-paths, for trace plots
@@ -71,10 +77,14 @@ struct PathDump {
 // Renders into `film`. `refineB`: independent BDPT samples (with `bdpt`, the seed run's settings) per
 // mutation added to b during the run (0: the seed run's b alone). The mutations must outlive the call. Throws lt::Error
 // when no seed path fits the scene. `stats.strategies` gets one row per mutation.
+// With a `target` the chains sample it instead of luminance (GDMLT, Lehtinen et al. 2013): every state's f* is
+// re-evaluated after its mutation built it, and the mutation's Q = T / f* rescaled to match (mcmc/mutation.h);
+// seeds.b must then be that target's integral (seedWithBdpt with the same target).
 ChainRunStats runPathSpaceChains(const Scene& scene, const PathSpaceSeeds& seeds,
                                  const std::vector<WeightedMutation>& mutations, const ChainRunSettings& run,
                                  const PathSettings& bdpt, double refineB, SampleFilm& film,
                                  const RunProgressCallback& progress, const std::atomic<bool>* stop,
-                                 const RunSnapshotCallback& snapshot = {}, const PathDump& dump = {});
+                                 const RunSnapshotCallback& snapshot = {}, const PathDump& dump = {},
+                                 const PathTarget& target = {});
 
 } // namespace lt

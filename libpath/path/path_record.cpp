@@ -42,17 +42,32 @@ double strategyWeight(const StrategyPath& path) {
     return std::max(0.0, (path.unweighted * path.misWeight).luminance());
 }
 
+namespace {
+
+// Calls f with every vertex of a strategy's path, light to eye (the sampled vertex in place of light[0] or
+// camera[0] where it replaced it).
+template <class F> void forEachJoinedVertex(const StrategyPath& path, F&& f) {
+    for (int i = 0; i < path.s; ++i)
+        f((i == 0 && path.s == 1 && path.sampled) ? *path.sampled : (*path.light)[size_t(i)]);
+    for (int i = path.t - 1; i >= 0; --i)
+        f((i == 0 && path.t == 1 && path.sampled) ? *path.sampled : (*path.camera)[size_t(i)]);
+}
+
+} // namespace
+
+std::vector<PathVertex> joinedVertices(const StrategyPath& path) {
+    std::vector<PathVertex> v;
+    v.reserve(size_t(path.s + path.t));
+    forEachJoinedVertex(path, [&](const PathVertex& x) { v.push_back(x); });
+    if (path.s > 0) v[size_t(path.s - 1)].delta = false;
+    if (path.t > 0) v[size_t(path.s)].delta = false;
+    return v;
+}
+
 file::PathRecord toPathRecord(const Scene& scene, const StrategyPath& path, uint64_t stream, uint64_t offset) {
     file::PathRecord rec;
     rec.vertices.reserve(size_t(path.s + path.t));
-    for (int i = 0; i < path.s; ++i) {
-        const PathVertex& v = (i == 0 && path.s == 1 && path.sampled) ? *path.sampled : (*path.light)[size_t(i)];
-        rec.vertices.push_back(toVertexRecord(scene, v));
-    }
-    for (int i = path.t - 1; i >= 0; --i) {
-        const PathVertex& v = (i == 0 && path.t == 1 && path.sampled) ? *path.sampled : (*path.camera)[size_t(i)];
-        rec.vertices.push_back(toVertexRecord(scene, v));
-    }
+    forEachJoinedVertex(path, [&](const PathVertex& x) { rec.vertices.push_back(toVertexRecord(scene, x)); });
     rec.raster = {float(path.raster.x), float(path.raster.y)};
     rec.s = uint16_t(path.s);
     rec.t = uint16_t(path.t);

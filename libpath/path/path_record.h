@@ -25,6 +25,9 @@ namespace lt {
 // exactly. Throws lt::Error "NAME: what" for a record that does not fit the scene.
 [[nodiscard]] std::vector<PathVertex> verticesFromRecord(const Scene& scene, const file::PathRecord& record,
                                                          const std::string& name);
+// The vertices of a strategy's path, light to eye, as a chain state holds them: the connection's two ends
+// marked non-delta (they were joined through their non-delta lobes, whatever lobe their walks went on with).
+[[nodiscard]] std::vector<PathVertex> joinedVertices(const StrategyPath& path);
 // One vertex as stored.
 [[nodiscard]] file::VertexRecord toVertexRecord(const Scene& scene, const PathVertex& v);
 

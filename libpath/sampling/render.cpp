@@ -37,7 +37,10 @@ IndependentSampler pixelSampler(uint64_t seed, int pass, uint64_t pixel) {
 }
 
 double seedWeight(const SampleFilm& film, const StrategyPath& path) {
-    const double w = strategyWeight(path);
+    return seedWeight(film, path, strategyWeight(path));
+}
+
+double seedWeight(const SampleFilm& film, const StrategyPath& path, double w) {
     if (path.t == 1) return w;
     const double h = film.filterSum(path.raster);
     return h > 0 ? w / h : 0.0;

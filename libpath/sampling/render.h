@@ -49,6 +49,8 @@ struct RenderStats : RunRecord {
 // camera strategies divided by the sum of the pixel filters at its raster position (film.h
 // filterSum), so that the weights integrate f* over raster positions as the Markov chains' b does.
 [[nodiscard]] double seedWeight(const SampleFilm& film, const StrategyPath& path);
+// The same for another resampling weight of the path (a chain target's f* / p times the MIS weight).
+[[nodiscard]] double seedWeight(const SampleFilm& film, const StrategyPath& path, double weight);
 // A BDPT strategy path as a candidate seed path: its record, weighted by seedWeight.
 [[nodiscard]] file::PathRecord seedCandidate(const Scene& scene, const SampleFilm& film, const StrategyPath& path,
                                              uint64_t stream, uint64_t offset);

@@ -9,8 +9,11 @@
 # 2014); mlt-lens and portal (Otsu et al.'s baseline and method: bidirectional : lens = 1 : 1, and
 # bidirectional : (lens : portal = 1 : 1) = 1 : 1); gpt, gdpr (lt-gradient --method gpt | gdpr, then
 # lt-reconstruct --norm l2, the unbiased one, every snapshot reconstructed) and gpt-l1, gdpr-l1 (the same
-# with --norm l1); the gradient buffer is kept beside the image as gpt.gradient.lts or gdpr.gradient.lts. Unknown methods are refused by name.
-known_methods="pt bdpt mlt pssmlt mmlt memlt hslt mlt-lens portal gpt gdpr gpt-l1 gdpr-l1"
+# with --norm l1); the gradient buffer is kept beside the image as gpt.gradient.lts or gdpr.gradient.lts; mlt-gd
+# and gdmlt (gradient-domain MLT: lt-mutate --stream - | lt-gradient --from-paths -, the chains targeting luminance
+# or the gradients, then L2; -l1 with L1), the chains' own image kept as mlt-gd.chains.lts or gdmlt.chains.lts.
+# Unknown methods are refused by name.
+known_methods="pt bdpt mlt pssmlt mmlt memlt hslt mlt-lens portal gpt gdpr gpt-l1 gdpr-l1 mlt-gd gdmlt mlt-gd-l1 gdmlt-l1"
 
 render_method() {
   local method="$1" file="$2" time="$3" seed="$4"; shift 4
@@ -31,15 +34,24 @@ render_method() {
     portal)
       "$bin/lt-mutate" "$scene" --strategies bidirectional:2,lens,portal --time "$time" --seed "$seed" \
         --snapshots doubling -o "$file" -q "$@" ;;
-    gpt|gdpr|gpt-l1|gdpr-l1)
+    gpt|gdpr|gpt-l1|gdpr-l1|mlt-gd|gdmlt|mlt-gd-l1|gdmlt-l1)
       # One render per estimator and comparison: gpt and gpt-l1 of one run of compare.sh (which touches
       # OUT/.started first) reconstruct the same gradient buffer, each charged its own reconstruction.
       local estimator="${method%-l1}" norm=l2 dir; dir="$(dirname "$file")"
       local gradient="$dir/$estimator.gradient.lts"
       [ "$estimator" != "$method" ] && norm=l1
       if ! { [ -f "$dir/.started" ] && [ "$gradient" -nt "$dir/.started" ]; }; then
-        "$bin/lt-gradient" "$scene" --method "$estimator" --time "$time" --seed "$seed" --snapshots doubling \
-          -o "$gradient" -q "$@"
+        case "$estimator" in
+          gpt|gdpr)
+            "$bin/lt-gradient" "$scene" --method "$estimator" --time "$time" --seed "$seed" --snapshots doubling \
+              -o "$gradient" -q "$@" ;;
+          *)
+            # The two stages side by side in a pipe: the snapshots' times are the pipeline's.
+            local target=luminance; [ "$estimator" = gdmlt ] && target=gradient
+            "$bin/lt-mutate" "$scene" --target "$target" --time "$time" --seed "$seed" --stream - \
+              -o "$dir/$estimator.chains.lts" -q "$@" |
+              "$bin/lt-gradient" "$scene" --from-paths - --snapshots doubling -o "$gradient" -q "$@" ;;
+        esac
       fi
       "$bin/lt-reconstruct" "$gradient" --norm "$norm" -o "$file" -q ;;
     *) echo "$0: unknown method '$method' (known: $known_methods)" >&2; return 1 ;;

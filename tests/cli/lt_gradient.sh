@@ -61,6 +61,16 @@ check "SIGTERM: exit code 143, a complete file" '[ $code -eq 143 ] && [ "$(tail 
 codes="${PIPESTATUS[*]}"
 check "gdmlt: lt-mutate --stream | lt-gradient --from-paths | lt-reconstruct" \
   '[ "$codes" = "0 0 0" ] && [ "$(chunks "$tmp/gdmlt.lts" | grep -c "BUFR\|SNAP")" -ge 2 ]'
+"$bin/lt-seed" "$scene" --spp 2 -o "$tmp/seed.lts" --paths - -q |
+  "$bin/lt-mutate" "$scene" - --target gradient --mutations-per-pixel 8 --startup-samples 2000 -o "$tmp/gd.lts" \
+    --stream - -q | "$bin/lt-gradient" "$scene" --from-paths - -o - -q | "$bin/lt-reconstruct" - -o "$tmp/gd-r.lts" -q
+codes="${PIPESTATUS[*]}"
+check "gdmlt: lt-seed | lt-mutate --target gradient | lt-gradient --from-paths | lt-reconstruct" \
+  '[ "$codes" = "0 0 0 0" ] && "$bin/lt-inspect" "$tmp/gd.lts" | grep -q "target=gradient"'
+out=$("$bin/lt-mutate" "$scene" --space primary --target gradient --mutations 100 -o "$tmp/x.lts" 2>&1); code=$?
+check "--target gradient outside path space: refused" '[ $code -ne 0 ] && echo "$out" | grep -q "needs --space path"'
+out=$("$bin/lt-mutate" "$scene" --gradient-alpha 0.5 --mutations 100 -o "$tmp/x.lts" 2>&1); code=$?
+check "--gradient-alpha without --target gradient: refused" '[ $code -ne 0 ] && echo "$out" | grep -q "target gradient"'
 "$bin/lt-mutate" "$scene" --mutations-per-pixel 16 --seed 2 -o "$tmp/mlt.lts" --stream "$tmp/stream.ltp" -q
 check "the stream: chain-state chunks that lt-inspect lists" '"$bin/lt-inspect" "$tmp/stream.ltp" | grep -q CHST'
 head -c $(( $(stat -c %s "$tmp/stream.ltp") * 2 / 3 )) "$tmp/stream.ltp" > "$tmp/cut.ltp"

@@ -35,6 +35,7 @@
 #include "formats/records.h"
 #include "gradient/gradient_settings.h"
 #include "image/film.h"
+#include "mcmc/markov_path.h"
 #include "path/vertex.h"
 
 namespace lt {
@@ -57,6 +58,12 @@ struct ChainShifts {
 [[nodiscard]] ChainShifts shiftChainState(const Scene& scene, const PixelRect& window, const std::vector<PathVertex>& v,
                                           const Vec2& raster, const Spectrum& f, double shiftThreshold,
                                           ShiftStatistics* stats);
+
+// GDMLT's target (Lehtinen et al. 2013, Sec. 5; the survey's Eq. 29 summed over the four pairs), so that chains
+// spend their time where the gradients are: f* = sum_k lum|F_k - f| + alpha targetValue(f) over the neighbours on
+// the film, positive wherever f is not black. An emitter seen directly (two vertices) is not shifted (its light
+// goes to the "direct" plane, estimated in the image domain) and keeps the luminance target, targetValue(f).
+[[nodiscard]] PathTarget gradientTarget(const Scene& scene, double alpha, double shiftThreshold);
 
 // One state's splats, not yet scaled by b / N: the film's planes. Splat values carry credit / (f* pixels), as
 // the chains' own image (mcmc/metropolis.h ChainImage).

@@ -1,9 +1,9 @@
-#include "gradient/chain_stream.h"
+#include "mcmc/chain_stream.h"
 
 #include <chrono>
 #include <exception>
 
-#include "gradient/chain_gradient.h"
+#include "mcmc/chain_gradient.h"
 #include "math/error.h"
 #include "scene/accel.h"
 #include "scene/scene.h"
@@ -67,8 +67,9 @@ ChainStreamStats gradientsFromStream(const Scene& scene, file::Reader& stream, c
     PlaneFilms films(scene);
     const double pixels = double(films.window().area());
     SnapshotSchedule schedule = settings.snapshots;
-    RunClock clock;
+    RunClock clock(settings.start);
     ChainStreamStats stats;
+    const bool afterChains = stream.regularFile(); // chain_stream.h: times
     constexpr size_t Block = 256;
     std::vector<ChainGradientSplats> blocks;
     std::atomic<uint64_t> nonFinite{0};
@@ -117,7 +118,7 @@ ChainStreamStats gradientsFromStream(const Scene& scene, file::Reader& stream, c
         stats.chainWallSeconds = round->wallSeconds;
         stats.chainCpuSeconds = round->cpuSeconds;
         RunProgress p = clock.progress("gradients", -1, stats.mutations, 0);
-        p.wallSeconds = stats.chainWallSeconds + stats.ownSeconds;
+        if (afterChains) p.wallSeconds = stats.chainWallSeconds + stats.ownSeconds;
         p.cpuSeconds += stats.chainCpuSeconds;
         p.b = stats.b;
         if (snapshot && schedule.due(p.wallSeconds, double(stats.mutations) / pixels))
@@ -128,7 +129,7 @@ ChainStreamStats gradientsFromStream(const Scene& scene, file::Reader& stream, c
     if (stats.rounds == 0 && !stats.interrupted)
         throw Error(stream.name() + ": no chain states (CHST chunks); write the stream with lt-mutate --stream");
     clock.close(stats);
-    stats.wallSeconds = stats.chainWallSeconds + stats.ownSeconds;
+    if (afterChains) stats.wallSeconds = stats.chainWallSeconds + stats.ownSeconds;
     stats.cpuSeconds += stats.chainCpuSeconds;
     stats.health.nonFinite += nonFinite.load();
     result = films.buffer(stats.b);

@@ -1,4 +1,4 @@
-#include "gradient/chain_gradient.h"
+#include "mcmc/chain_gradient.h"
 
 #include <climits>
 #include <cmath>
@@ -112,6 +112,21 @@ ChainShifts shiftChainState(const Scene& scene, const PixelRect& window, const s
         out.F[k] = shifted[ending].value * scale;
     }
     return out;
+}
+
+PathTarget gradientTarget(const Scene& scene, double alpha, double shiftThreshold) {
+    return [&scene, alpha, shiftThreshold, window = cropWindow(scene.camera.film())](
+               const std::vector<PathVertex>& v, const Vec2& raster, const Spectrum& f) {
+        if (v.size() < 3) return targetValue(f);
+        const ChainShifts shifts = shiftChainState(scene, window, v, raster, f, shiftThreshold, nullptr);
+        double sum = alpha * targetValue(f);
+        for (size_t k = 0; k < 4; ++k)
+            if (shifts.onFilm[k]) {
+                const Spectrum d = shifts.F[k] - f;
+                sum += Spectrum(std::abs(d.r), std::abs(d.g), std::abs(d.b)).luminance();
+            }
+        return sum;
+    };
 }
 
 bool addChainState(const Scene& scene, const PixelRect& window, const file::ChainState& state, double shiftThreshold,

@@ -808,7 +808,7 @@ StreamedRun runStreamedChains(const Scene& scene, const std::string& file, uint6
         const auto st = runPathSpaceChains(scene, seeds, mix, rs, bdpt, 1.0 / 16, film, {}, nullptr, {}, dump, target);
         REQUIRE(st.health.nonFinite == 0);
         writer.finish();
-        out.b = st.normalization.b();
+        out.b = st.b;
         out.chainImage = film.develop(out.b);
     }
     file::Reader reader(file, file::FileKind::Paths);

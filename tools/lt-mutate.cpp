@@ -129,7 +129,8 @@ int main(int argc, char** argv) {
            "path space: the function the chains sample: luminance (default; MLT) or gradient (gradient-domain "
            "MLT, Lehtinen et al. 2013: the luminance of the differences to the four neighbouring pixels' "
            "shifted paths plus --gradient-alpha times the path's own; for --stream and lt-gradient "
-           "--from-paths). b is then that target's integral, from BDPT samples of our own even with a seed file")
+           "--from-paths). b stays the integral of luminance; the image is read with b N / (sum of the credits x "
+           "lum f / f*)")
         ->check(CLI::IsMember({"luminance", "gradient"}));
     app.add_option("--gradient-alpha", gradientAlpha,
                    "--target gradient: weight of the path's own luminance in the target (default 0.2)")
@@ -331,15 +332,6 @@ int main(int argc, char** argv) {
                 if (!quiet)
                     std::cerr << "lt-mutate: seeded with BDPT (" << startupSamples << " samples): b = " << seeds.b.b()
                               << '\n';
-            } else if (pathTarget) {
-                // The seed file's b integrates luminance: the chains start from its paths, b comes from our own.
-                progress.update(-1, "estimating b of the target");
-                seeds.b = lt::seedWithBdpt(*scene, ps.paths, startupSamples, 1, seed ^ 0x5eedULL, threads,
-                                           &lt::tool::stopRequested(), pathTarget)
-                              .b;
-                if (!quiet)
-                    std::cerr << "lt-mutate: b of the " << target << " target from " << startupSamples
-                              << " BDPT samples: " << seeds.b.b() << " (the seed file's paths start the chains)\n";
             }
             lt::MutationSettings settings{maxEdges, lambda};
             settings.hsltGamma = hsltGamma;
@@ -387,7 +379,7 @@ int main(int argc, char** argv) {
                       << ", longer than --time; the chains ran one round (lower --startup-samples)\n";
 
         const lt::NormalizationEstimate& b = stats.normalization;
-        writer.writeBuffer(film.toBuffer(b.b()));
+        writer.writeBuffer(film.toBuffer(stats.b));
         writer.writeStats(lt::file::valueTable("run", {{"mutations", double(stats.mutations)},
                                                        {"mutations_per_pixel", double(stats.mutations) / pixels},
                                                        {"chains", double(chains)},

@@ -66,6 +66,7 @@ void ChainRunner::run(
         uint64_t roundMutations = 0;
         for (size_t c = 0; c < chains.size(); ++c) {
             splats.push_back(&images[c].splats());
+            luminanceCredit_ += images[c].luminanceCredit();
             roundMutations += done[c];
             stats.normalization.take(chains[c]->normalization);
         }
@@ -73,13 +74,12 @@ void ChainRunner::run(
         mutations_ += roundMutations;
         const double wall = elapsed();
         if (afterRound)
-            afterRound(chains,
-                       {mutations_, stats.normalization.b(), stats.normalization.samples(), wall, clock_.cpuSeconds()});
+            afterRound(chains, {mutations_, filmB(stats), stats.normalization.samples(), wall, clock_.cpuSeconds()});
         double fraction = run_.mutations > 0 ? double(mutations_) / double(run_.mutations) : -1;
         if (run_.timeLimit > 0) fraction = std::max(fraction, std::min(1.0, wall / run_.timeLimit));
         if (snapshot_ && schedule.due(wall, double(mutations_) / pixels)) {
             RunProgress p = clock_.progress("chains", fraction, mutations_, run_.mutations);
-            p.b = stats.normalization.b();
+            p.b = filmB(stats);
             clock_.snapshot(
                 snapshot_, p, [&] { return film_.toBuffer(p.b); }, stats);
         }
@@ -92,6 +92,15 @@ void ChainRunner::run(
     finish(stats);
 }
 
-void ChainRunner::finish(ChainRunStats& stats) const { clock_.close(stats); }
+double ChainRunner::filmB(const ChainRunStats& stats) const {
+    const double b = stats.normalization.b();
+    if (!run_.luminanceNormalized) return b;
+    return luminanceCredit_ > 0 ? b * double(mutations_) / luminanceCredit_ : 0.0;
+}
+
+void ChainRunner::finish(ChainRunStats& stats) const {
+    stats.b = filmB(stats);
+    clock_.close(stats);
+}
 
 } // namespace lt

@@ -26,12 +26,17 @@ public:
         const double w = scale_ * credit / target;
         for (const auto& k : c)
             splats_.push_back({k.raster, k.value * w});
+        luminanceCredit_ += credit * targetValue(c) / target;
     }
     std::vector<Splat>& splats() { return splats_; }
+    // Sum of credit x targetValue(f) / f*: the credit itself for chains whose target is targetValue, and for
+    // another target N times the chains' estimate of (integral of targetValue) / (integral of f*) (chain_run.h).
+    [[nodiscard]] double luminanceCredit() const { return luminanceCredit_; }
 
 private:
     double scale_;
     std::vector<Splat> splats_;
+    double luminanceCredit_ = 0;
 };
 
 // The acceptance probability min(1, f*(y) T(y -> x) / (f*(x) T(x -> y))), written with the mutations'

@@ -88,8 +88,7 @@ public:
             const uint64_t count = done + i + 1;
             if (dumpEvery_ && count % dumpEvery_ == 0) dumped_.push_back(toPathRecord(scene_, x_, index_, count));
             if (refine_ && count % refineEvery_ == 0)
-                normalization.add(0,
-                                  bdptSampleOfB(*refine_, film_, refineSeed_, count / refineEvery_, nullptr, target_));
+                normalization.add(0, bdptSampleOfB(*refine_, film_, refineSeed_, count / refineEvery_));
         }
         position_.flush(image);
         if (stream_ && held_ > 0) emit(x_, held_);
@@ -166,15 +165,20 @@ PathSpaceSeeds seedsFromFile(file::Content&& content) {
     return seeds;
 }
 
+namespace {
+
+// A strategy path's resampling weight under a chain `target`: its MIS weight times the target of its vertices with
+// f / p in place of f (every target is proportional to f's scale), as seedWeight weighs luminance.
 double targetSeedWeight(const SampleFilm& film, const StrategyPath& path, const PathTarget& target) {
-    if (!target) return seedWeight(film, path);
     if (!(path.misWeight > 0) || path.unweighted.isBlack()) return 0;
     const double w = path.misWeight * target(joinedVertices(path), path.raster, path.unweighted);
     return w > 0 && std::isfinite(w) ? seedWeight(film, path, w) : 0.0;
 }
 
+} // namespace
+
 double bdptSampleOfB(const Bdpt& bdpt, const SampleFilm& film, uint64_t seed, uint64_t index,
-                     const StrategyCallback* onPath, const PathTarget& target) {
+                     const StrategyCallback* onPath) {
     thread_local std::vector<Splat> splats;
     SampleHealth health;
     IndependentSampler u(mixBits(mixBits(seed ^ 0x5eedULL) + index), index);
@@ -183,7 +187,7 @@ double bdptSampleOfB(const Bdpt& bdpt, const SampleFilm& film, uint64_t seed, ui
     const int y = window.y0 + std::min(int(u.next1D() * window.height()), window.height() - 1);
     double sum = 0;
     const StrategyCallback collect = [&](const StrategyPath& sp) {
-        sum += targetSeedWeight(film, sp, target);
+        sum += seedWeight(film, sp);
         if (onPath) (*onPath)(sp);
     };
     splats.clear();
@@ -215,7 +219,7 @@ PathSpaceSeeds seedWithBdpt(const Scene& scene, const PathSettings& bdpt, uint64
                         candidates[size_t(b - wave)].push_back(seedCandidate(scene, film, sp, i, 0));
                         if (target) candidates[size_t(b - wave)].back().weight = targetSeedWeight(film, sp, target);
                     };
-                    values[size_t(b - wave)].push_back(bdptSampleOfB(sampler, film, seed, i, &collect, target));
+                    values[size_t(b - wave)].push_back(bdptSampleOfB(sampler, film, seed, i, &collect));
                 }
                 EmbreeAccel::flushRayCount();
             });
@@ -241,7 +245,9 @@ ChainRunStats runPathSpaceChains(const Scene& scene, const PathSpaceSeeds& seeds
     if (mutations.empty()) throw Error("no mutation to run");
     if (seeds.paths.empty() || !(seeds.b.b() > 0)) throw Error("no seed paths with light to start the chains from");
     if (!(refineB >= 0 && refineB <= 1)) throw Error("the samples of b per mutation must be in [0, 1]");
-    ChainRunner runner(run, film, progress, stop, snapshot);
+    ChainRunSettings settings = run;
+    settings.luminanceNormalized = bool(target);
+    ChainRunner runner(settings, film, progress, stop, snapshot);
     ChainRunStats stats;
     stats.strategies = MutationStatistics(PathSpaceChain::names(mutations));
     stats.normalization = seeds.b;

@@ -42,20 +42,17 @@ struct PathSpaceSeeds {
 
 // The share of b of one BDPT sample (sum of its strategies' seedWeight times the pixel count) through a
 // uniformly chosen pixel of `film`, with random numbers keyed by (seed, index); `onPath`, when given,
-// sees each strategy path (seedCandidate's input). With a `target`, b is the integral of that target.
+// sees each strategy path (seedCandidate's input).
 [[nodiscard]] double bdptSampleOfB(const Bdpt& bdpt, const SampleFilm& film, uint64_t seed, uint64_t index,
-                                   const StrategyCallback* onPath = nullptr, const PathTarget& target = {});
-
-// A strategy path's resampling weight under `target` (seedWeight for luminance): its MIS weight times the
-// target of its vertices with f / p in place of f (every target is proportional to f's scale).
-[[nodiscard]] double targetSeedWeight(const SampleFilm& film, const StrategyPath& path, const PathTarget& target);
+                                   const StrategyCallback* onPath = nullptr);
 
 // The chains' start: the paths of a seed file (sampling/seed_file.h) and the seed run's b as the first
 // samples of the estimate; throws lt::Error naming the file when b or its sample count is missing.
 [[nodiscard]] PathSpaceSeeds seedsFromFile(file::Content&& content);
 
 // Seed paths from a BDPT run of its own (what lt-seed --paths writes): at least `samples` camera
-// samples (whole passes), `keep` draws. With a `target`, draws and b are those of that target.
+// samples (whole passes), `keep` draws. With a `target`, the draws are in proportion to it (b stays the
+// integral of luminance: ChainRunSettings::luminanceNormalized).
 [[nodiscard]] PathSpaceSeeds seedWithBdpt(const Scene& scene, const PathSettings& bdpt, uint64_t samples, size_t keep,
                                           uint64_t seed, int threads, const std::atomic<bool>* stop,
                                           const PathTarget& target = {});
@@ -79,7 +76,7 @@ struct PathDump {
 // when no seed path fits the scene. `stats.strategies` gets one row per mutation.
 // With a `target` the chains sample it instead of luminance (GDMLT, Lehtinen et al. 2013): every state's f* is
 // re-evaluated after its mutation built it, and the mutation's Q = T / f* rescaled to match (mcmc/mutation.h);
-// seeds.b must then be that target's integral (seedWithBdpt with the same target).
+// seeds.b stays the integral of luminance, and the film is read as ChainRunSettings::luminanceNormalized says.
 ChainRunStats runPathSpaceChains(const Scene& scene, const PathSpaceSeeds& seeds,
                                  const std::vector<WeightedMutation>& mutations, const ChainRunSettings& run,
                                  const PathSettings& bdpt, double refineB, SampleFilm& film,

@@ -396,6 +396,7 @@ int main(int argc, char** argv) {
                                                             {"b_samples", double(b.samples())},
                                                             {"startup_samples", double(stats.startupSamples)}};
         if (pathSpace) norm.emplace_back("unusable_seeds", double(stats.unusableSeeds));
+        if (pathTarget) norm.emplace_back("film_b", stats.b);
         if (seedB >= 0) norm.emplace_back("b_seed_file", seedB);
         writer.writeStats(lt::file::valueTable("normalization", norm));
         writer.writeStats(stats.strategies.table());

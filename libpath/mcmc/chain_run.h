@@ -55,9 +55,9 @@ struct ChainRunStats : RunRecord {
     uint64_t mutations = 0;
     double b = 0; // the normalization the film was read with at the end (ChainRunSettings::luminanceNormalized)
     double startupSeconds = 0;
-    // The normalization b (integral of f* over the image) with which the film was read at the end, from
-    // the start-up's samples and those added during the run (multiplexed: one stratum per path length,
-    // index = edges).
+    // The normalization b (integral of f* over the image; of luminance under
+    // ChainRunSettings::luminanceNormalized) as it stood at the end, from the start-up's samples and those added
+    // during the run (multiplexed: one stratum per path length, index = edges).
     NormalizationEstimate normalization;
     uint64_t startupSamples = 0; // samples of b the start-up drew (path space: of the seed run)
     // multiplexed, per path length (index = edges): chains started there, and mutations spent there

@@ -167,13 +167,10 @@ int main(int argc, char** argv) {
         if (space != "path" && app.count("--lambda")) throw lt::Error("--lambda is for --space path");
         if (space != "path" && (app.count("--hslt-gamma") || app.count("--hslt-stratify") || app.count("--hslt-jumps")))
             throw lt::Error("--hslt-gamma, --hslt-stratify and --hslt-jumps are for --space path");
-        // CLI11's range checks let NaN through; refuse it before the seeding, as --lambda.
+        // CLI11's range checks let NaN through; refuse it before the seeding.
         if (!(hsltGamma > 0)) throw lt::Error("--hslt-gamma must lie in (0, 1], got " + std::to_string(hsltGamma));
         if (!(hsltStratify >= 0))
             throw lt::Error("--hslt-stratify must lie in [0, 1], got " + std::to_string(hsltStratify));
-        // CLI11's range check lets NaN through; refuse it before the seeding, not after.
-        if (!std::isfinite(lambda))
-            throw lt::Error("--lambda must be a positive number, got " + std::to_string(lambda));
         if (space != "path" && app.count("--portal-range")) throw lt::Error("--portal-range is for --space path");
         if (!(portalRange[0] > 0 && portalRange[0] < portalRange[1] && portalRange[1] < lt::Pi / 2))
             throw lt::Error("--portal-range: need 0 < MIN < MAX < pi/2 radians, got " + std::to_string(portalRange[0]) +

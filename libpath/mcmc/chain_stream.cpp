@@ -1,7 +1,6 @@
 #include "mcmc/chain_stream.h"
 
 #include <chrono>
-#include <exception>
 
 #include "mcmc/chain_gradient.h"
 #include "math/error.h"
@@ -92,7 +91,6 @@ ChainStreamStats gradientsFromStream(const Scene& scene, file::Reader& stream, c
         const auto t0 = std::chrono::steady_clock::now();
         const size_t n = round->states.size();
         blocks.assign((n + Block - 1) / Block, {});
-        std::exception_ptr failure;
         arena.execute([&] {
             tbb::parallel_for(size_t(0), blocks.size(), [&](size_t k) {
                 for (size_t i = k * Block; i < std::min(n, (k + 1) * Block); ++i) {

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "bsdf/dielectric.h"
 #include "bsdf/diffuse.h"
@@ -849,6 +850,16 @@ TEST_CASE("GDMLT: the chain-state stream credits every state as the chains' own 
         for (const auto& s : round.states)
             credit += s.credit;
     CHECK(credit == Approx(double(mutations)).epsilon(1e-9));
+
+    // A damaged stream: a state off the film (NaN, or far away) is an error, never a splat.
+    ChainGradientSplats splats;
+    file::ChainState bad = content.rounds.back().states.back();
+    for (const float x : {std::numeric_limits<float>::quiet_NaN(), 1e30f, -1.0f}) {
+        bad.raster[0] = x;
+        CHECK_THROWS_WITH(addChainState(*scene, cropWindow(scene->camera.film()), bad, 0.001, splats, nullptr),
+                          Catch::Contains("off the film"));
+    }
+    CHECK(splats.primal.empty());
     const std::vector<float> image = film.develop(content.rounds.back().b);
     REQUIRE(image.size() == run.chainImage.size());
     // f, f* and the raster position are stored in binary32: relative errors of ~1e-7 in the values and

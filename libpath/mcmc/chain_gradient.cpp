@@ -5,6 +5,7 @@
 #include <optional>
 
 #include "gradient/shift_mapping.h"
+#include "math/error.h"
 #include "mcmc/image_contribution.h"
 #include "path/path_record.h"
 #include "scene/scene.h"
@@ -87,12 +88,13 @@ double channelSum(const Spectrum& s) { return s.r + s.g + s.b; }
 
 } // namespace
 
-ChainShifts shiftChainState(const Scene& scene, const PixelRect& window, const std::vector<PathVertex>& v,
+ChainShifts shiftChainState(const Scene& scene, const SensorWindow& sensor, const std::vector<PathVertex>& v,
                             const Vec2& raster, const Spectrum& f, double shiftThreshold, ShiftStatistics* stats) {
     ChainShifts out;
     for (size_t k = 0; k < 4; ++k) {
         const Vec2 r = raster + Vec2(kNeighbourOffsets[k][0], kNeighbourOffsets[k][1]);
-        out.onFilm[k] = r.x >= window.x0 && r.x < window.x1 && r.y >= window.y0 && r.y < window.y1;
+        out.onFilm[k] =
+            r.x >= sensor.x0 && r.x < sensor.x0 + sensor.width && r.y >= sensor.y0 && r.y < sensor.y0 + sensor.height;
     }
     size_t ending = 0;
     const auto base = basePathOf(scene, v, raster, shiftThreshold, ending);
@@ -115,10 +117,10 @@ ChainShifts shiftChainState(const Scene& scene, const PixelRect& window, const s
 }
 
 PathTarget gradientTarget(const Scene& scene, double alpha, double shiftThreshold) {
-    return [&scene, alpha, shiftThreshold, window = cropWindow(scene.camera.film())](
-               const std::vector<PathVertex>& v, const Vec2& raster, const Spectrum& f) {
+    return [&scene, alpha, shiftThreshold, sensor = SensorWindow(scene.camera)](const std::vector<PathVertex>& v,
+                                                                                const Vec2& raster, const Spectrum& f) {
         if (v.size() < 3) return targetValue(f);
-        const ChainShifts shifts = shiftChainState(scene, window, v, raster, f, shiftThreshold, nullptr);
+        const ChainShifts shifts = shiftChainState(scene, sensor, v, raster, f, shiftThreshold, nullptr);
         double sum = alpha * targetValue(f);
         for (size_t k = 0; k < 4; ++k)
             if (shifts.onFilm[k]) {
@@ -133,6 +135,13 @@ bool addChainState(const Scene& scene, const PixelRect& window, const file::Chai
                    ChainGradientSplats& out, ShiftStatistics* stats) {
     const Spectrum f(state.f[0], state.f[1], state.f[2]);
     const Vec2 raster(state.raster[0], state.raster[1]);
+    // A chain only visits raster positions where the sensor responds: anything else (NaN included) is a damaged
+    // stream, and the film's pixel lookup must never see it.
+    const SensorWindow sensor(scene.camera);
+    if (!(raster.x >= sensor.x0 && raster.x <= sensor.x0 + sensor.width && raster.y >= sensor.y0 &&
+          raster.y <= sensor.y0 + sensor.height))
+        throw Error("a chain state at raster position (" + std::to_string(raster.x) + ", " + std::to_string(raster.y) +
+                    "), off the film");
     const double c = state.credit / (double(state.target) * double(window.area()));
     if (!(c > 0) || !std::isfinite(c) || !f.isFinite()) return false;
     if (state.vertices.size() == 2) {
@@ -142,7 +151,7 @@ bool addChainState(const Scene& scene, const PixelRect& window, const file::Chai
     file::PathRecord record;
     record.vertices = state.vertices;
     const std::vector<PathVertex> v = verticesFromRecord(scene, record, "a chain state");
-    const ChainShifts shifts = shiftChainState(scene, window, v, raster, f, shiftThreshold, stats);
+    const ChainShifts shifts = shiftChainState(scene, sensor, v, raster, f, shiftThreshold, stats);
     const double own = targetValue(f);
     const size_t first = out.primal.size(), firstDx = out.dx.size(), firstDy = out.dy.size();
     bool finite = true;

@@ -19,8 +19,9 @@
 // 2015, Eq. 8, with p the chain's density): pixel j receives w f(x), pixel j + k receives w F_k(x), and the
 // difference I_{j+k} - I_j receives w (F_k - f), each times (b / N) credit / f*(x). A state contributes to its
 // own pixel through all four pairs, so each pair's primal parts count a quarter (the four weights of a path
-// across the directions k and -k sum to two, over all four to four). A neighbour outside the film has no
-// technique: w = 1 there. Emitters seen directly (two-vertex paths) go to the "direct" plane, unshifted.
+// across the directions k and -k sum to two, over all four to four). A neighbour off the sensor (where no
+// chain draws a state, mcmc/sensor_window.h; not the crop: the pair's two sides must agree) has no technique: w = 1.
+// Emitters seen directly (two-vertex paths) go to the "direct" plane, unshifted.
 //
 // F_k from the shift mapping. The state is written as a base path with one ending, the light it reaches (a
 // BSDF sample's ending; a light sample's for point, spot and directional lights, which no BSDF sample reaches),
@@ -36,6 +37,7 @@
 #include "gradient/gradient_settings.h"
 #include "image/film.h"
 #include "mcmc/markov_path.h"
+#include "mcmc/sensor_window.h"
 #include "path/vertex.h"
 
 namespace lt {
@@ -46,7 +48,8 @@ class Scene;
 inline constexpr std::array<std::array<int, 2>, 4> kNeighbourOffsets{{{1, 0}, {-1, 0}, {0, 1}, {0, -1}}};
 
 // A state's contributions in its four neighbours: F[k] = f(T_k x) |T_k'| (zero where the shift fails), and
-// whether the neighbour's raster position lies on the film (else no pair is formed).
+// whether the neighbour's raster position lies where the sensor responds (mcmc/sensor_window.h: the crop grown by
+// the filter's margin, where the chains draw their states; else no chain can draw T_k x and no pair is formed).
 struct ChainShifts {
     std::array<Spectrum, 4> F;
     std::array<bool, 4> onFilm{};
@@ -55,9 +58,9 @@ struct ChainShifts {
 // Shifts the path v (light to eye, at least one scattering vertex; contribution f at raster position `raster`)
 // to its four neighbours. `shiftThreshold`: gradient/base_path.h connectableLobe. `stats` (may be null) counts
 // the shifts' outcomes. A path whose own value the base-path form cannot reproduce (zero there) shifts nowhere.
-[[nodiscard]] ChainShifts shiftChainState(const Scene& scene, const PixelRect& window, const std::vector<PathVertex>& v,
-                                          const Vec2& raster, const Spectrum& f, double shiftThreshold,
-                                          ShiftStatistics* stats);
+[[nodiscard]] ChainShifts shiftChainState(const Scene& scene, const SensorWindow& sensor,
+                                          const std::vector<PathVertex>& v, const Vec2& raster, const Spectrum& f,
+                                          double shiftThreshold, ShiftStatistics* stats);
 
 // GDMLT's target (Lehtinen et al. 2013, Sec. 5; the survey's Eq. 29 summed over the four pairs), so that chains
 // spend their time where the gradients are: f* = sum_k lum|F_k - f| + alpha targetValue(f) over the neighbours on
@@ -78,7 +81,8 @@ struct ChainGradientSplats {
 };
 
 // Adds the splats of one streamed state (file::ChainState). Returns false, adding nothing, when a value is not
-// finite; throws lt::Error ("a chain state: what") when the state does not re-create in the scene.
+// finite; throws lt::Error ("a chain state ...") when the state lies off the film or does not re-create in the
+// scene.
 bool addChainState(const Scene& scene, const PixelRect& window, const file::ChainState& state, double shiftThreshold,
                    ChainGradientSplats& out, ShiftStatistics* stats);
 

@@ -17,6 +17,10 @@
 #include "math/warp.h"
 #include "path/vertex.h"
 #include "scene/emitter.h"
+#include "scene/emitters/hosek_wilkie_sky.h"
+#include "scene/emitters/preetham_sun.h"
+#include "scene/emitters/sun_position.h"
+#include "scene/emitters/sun_sky.h"
 #include "scene/scene.h"
 #include "test_util.h"
 
@@ -476,4 +480,184 @@ TEST_CASE("a surface vertex takes its shape's emitter, and none on a shape witho
         CHECK(v.emitterIndex == scene->shapes[size_t(shape)].emitter);
         CHECK((v.emitter != nullptr) == (shape == lightShape));
     }
+}
+
+TEST_CASE("sky: the Hosek-Wilkie model gives what the authors' reference implementation gives", "[emitter][daylight]") {
+    // (turbidity, albedo, solar elevation, theta, gamma) and the RGB radiance of the authors' C code,
+    // version 1.1 (arhosek_rgb_skymodelstate_alloc_init + arhosek_tristim_skymodel_radiance), printed with
+    // 13 digits: integer and fractional turbidities, turbidity 10 (no upper bracket), both albedo ends,
+    // the sun near the horizon and at the zenith, views at the zenith and near the horizon.
+    struct Case {
+        double turbidity, albedo, elevation, theta, gamma;
+        Spectrum expected;
+    };
+    const Case cases[] = {
+        {3, 0.2, 0.6, 0.3, 0.5, {3.669098252319e+00, 5.550981483012e+00, 9.345147952023e+00}},
+        {3, 0.2, 0.6, 1.2, 0.1, {3.349389549081e+01, 3.579619143775e+01, 3.533908307716e+01}},
+        {1, 0.0, 0.05, 1.5, 1, {7.031682806560e+00, 6.254591992536e+00, 3.119828132563e+00}},
+        {10, 1.0, 1.5, 0.1, 2, {6.118863746063e+00, 7.757398710651e+00, 1.366678445215e+01}},
+        {4.5, 0.35, 0.9, 0.8, 1.3, {3.708831730143e+00, 6.572906983414e+00, 1.239733355794e+01}},
+        {7.25, 0.7, 0.2, 1.45, 0.02, {1.811593253862e+02, 1.248061063834e+02, 5.447397061049e+01}},
+        {2, 0.1, 1.0, 0.0, 0.57, {2.320024787486e+00, 4.066853293290e+00, 8.900135312561e+00}},
+    };
+    for (const Case& c : cases) {
+        CAPTURE(c.turbidity, c.albedo, c.elevation, c.theta, c.gamma);
+        const Spectrum L = HosekWilkieSky(c.turbidity, Spectrum(c.albedo), c.elevation).radiance(c.theta, c.gamma);
+        for (int k = 0; k < 3; ++k)
+            CHECK(L[k] == Approx(c.expected[k]).epsilon(1e-11));
+    }
+}
+
+TEST_CASE("sun position: PSA puts the sun where the solstice and the equinox put it", "[emitter][daylight]") {
+    // Greenwich (51.4769 N, 0 E) at the June solstice of 2010 (21 June, 11:28 UT, declination 23.438
+    // degrees): at 12:00 UT the sun is due south (the equation of time moves it 0.4 degrees east) at
+    // zenith angle latitude - declination (plus 0.002 degrees of parallax).
+    const SunLocation greenwich{51.4769, 0, 0};
+    SunTime noon{2010, 6, 21, 12, 0, 0};
+    const SkyAngles a = sunPosition(noon, greenwich);
+    CHECK(a.zenith * 180 / Pi == Approx(51.4769 - 23.438).margin(0.03));
+    CHECK(a.azimuth * 180 / Pi == Approx(180).margin(1.5));
+    // The same at 6:00: low in the east-north-east; east is +x of the sky frame, north -z.
+    SunTime morning = noon;
+    morning.hour = 6;
+    const SkyAngles m = sunPosition(morning, greenwich);
+    CHECK(m.azimuth * 180 / Pi > 60);
+    CHECK(m.azimuth * 180 / Pi < 90);
+    CHECK(skyDirection(m).x > 0.5);
+    CHECK(skyDirection(m).y > 0);
+    // On the equator at the March equinox of 2010 (20 March, 17:32 UT), at 12:00 local time 90 degrees
+    // east of Greenwich (timezone 6): the sun stands almost overhead (declination -0.2 degrees, equation
+    // of time 7.5 minutes = 1.9 degrees of hour angle).
+    const SkyAngles e = sunPosition({2010, 3, 20, 12, 0, 0}, {0, 90, 6});
+    CHECK(e.zenith * 180 / Pi < 2.5);
+}
+
+TEST_CASE("sun: the Preetham disk dims and reddens toward the horizon, and stays finite", "[emitter][daylight]") {
+    double lastLuminance = 1e300, lastRedShare = 0;
+    for (double zenithDeg : {0.0, 30.0, 60.0, 80.0, 88.0, 90.0}) {
+        const Spectrum L = preethamSunRadiance(zenithDeg * Pi / 180, 3);
+        CAPTURE(zenithDeg, L.r, L.g, L.b);
+        REQUIRE(L.isFinite());
+        CHECK(L.luminance() < lastLuminance);
+        CHECK(L.r / (L.r + L.g + L.b) > lastRedShare);
+        lastLuminance = L.luminance();
+        lastRedShare = L.r / (L.r + L.g + L.b);
+    }
+    // More aerosols, less direct sun.
+    CHECK(preethamSunRadiance(0.5, 8).luminance() < preethamSunRadiance(0.5, 2).luminance());
+}
+
+TEST_CASE("sun: its map holds the disk's irradiance exactly, at any resolution and disk size", "[emitter][daylight]") {
+    DaylightSettings d;
+    d.sun = {0.6, 2.0};
+    d.turbidity = 2.5;
+    d.sunScale = 3;
+    d.toWorld = Transform::rotate(normalize(Vec3(1, 2, 3)), 40);
+    const Spectrum L = preethamSunRadiance(d.sun.zenith, d.turbidity) * d.sunScale;
+    const Spectrum E = L * (TwoPi * (1 - std::cos(SunAngularRadius)));
+    const Vec3 toSun = normalize(d.toWorld.vector(skyDirection(d.sun)));
+    for (int resolution : {64, 512, 2048})
+        for (double radiusScale : {1.0, 4.0, 40.0}) {
+            CAPTURE(resolution, radiusScale);
+            d.resolution = resolution;
+            d.sunRadiusScale = radiusScale;
+            const auto emitters = makeDaylightEmitters(d, false, true, "sun");
+            REQUIRE(emitters.size() == 1);
+            Emitter& sun = *emitters[0];
+            CHECK(sun.typeName() == "sun");
+            sun.setSceneBounds({0, 0, 0}, 1);
+            // The integral of the map's radiance over the sphere is E (power = pi r^2 x that integral).
+            CHECK(sun.power().g / Pi == Approx(E.g).epsilon(1e-9));
+            // Irradiance on a plane facing the sun: E times the mean cosine over the (scaled) disk, within
+            // the map's texels (estimated by the emitter's own direct sampling; 5 standard errors).
+            const double halfAngle = SunAngularRadius * radiusScale;
+            const double meanCos = (1 + std::cos(halfAngle)) / 2;
+            const Stats s = irradiance(sun, {0, 0, 0}, toSun, 20000, 101, 1);
+            const double texel = 2 * Pi / resolution; // the map's blur of the disk, in radians
+            INFO("estimate " << s.mean() << " +- " << s.stdErr() << ", expected " << E.g * meanCos);
+            CHECK(std::abs(s.mean() - E.g * meanCos) <= 5 * s.stdErr() + E.g * (1 - std::cos(halfAngle + texel)));
+        }
+    // Radius scale 0: one directional emitter with that irradiance, light travelling away from the sun.
+    d.sunRadiusScale = 0;
+    const auto directional = makeDaylightEmitters(d, false, true, "sun");
+    REQUIRE(directional.size() == 1);
+    CHECK(directional[0]->typeName() == "directional");
+    directional[0]->setSceneBounds({0, 0, 0}, 1);
+    const DirectSample ds = directional[0]->sampleDirect({0, 0, 0}, {0.5, 0.5});
+    CHECK(length(ds.wi - toSun) < 1e-12);
+    CHECK(ds.value.g == Approx(E.g).epsilon(1e-9));
+}
+
+TEST_CASE("sky: the baked map is the model at its texel centres, turned by toWorld, and the sunsky adds the sun",
+          "[emitter][daylight]") {
+    DaylightSettings d;
+    d.sun = {0.9, 1.0};
+    d.resolution = 128;
+    d.albedo = Spectrum(0.1, 0.3, 0.5);
+    d.skyScale = 2;
+    d.toWorld = Transform::rotate(normalize(Vec3(0.3, 1, -0.2)), 70);
+    const SkyDome dome(d);
+    const auto sky = makeDaylightEmitters(d, true, false, "sky");
+    REQUIRE(sky.size() == 1);
+    CHECK(sky[0]->typeName() == "sky");
+    const int W = 128, H = 64;
+    Pcg32 rng(111, 0);
+    for (int i = 0; i < 2000; ++i) {
+        const int x = int(rng.nextDouble() * W), y = int(rng.nextDouble() * H);
+        const SkyAngles centre{(y + 0.5) * Pi / H, (x + 0.5) * TwoPi / W};
+        const Vec3 world = d.toWorld.vector(skyDirection(centre));
+        CAPTURE(x, y);
+        REQUIRE(sky[0]->evalEnvironment(world) == dome.radiance(centre));
+        if (y >= H / 2) REQUIRE(sky[0]->evalEnvironment(world).isBlack()); // below the horizon
+    }
+    // Symmetric about the sun's meridian; brighter toward the sun than away from it at equal height.
+    for (double delta : {0.3, 1.1, 2.5}) {
+        const Spectrum a = dome.radiance({1.0, d.sun.azimuth + delta}), b = dome.radiance({1.0, d.sun.azimuth - delta});
+        CHECK(a.g == Approx(b.g).epsilon(1e-12));
+    }
+    CHECK(dome.radiance({0.9, d.sun.azimuth + 0.2}).luminance() > dome.radiance({0.9, d.sun.azimuth + Pi}).luminance());
+    // extend: the horizon's radiance continues below it, fading to zero at the nadir.
+    DaylightSettings extended = d;
+    extended.extend = true;
+    const SkyDome below(extended);
+    CHECK(below.radiance({Pi / 2 + 0.3, 2.0}).g > 0);
+    CHECK(below.radiance({Pi - 1e-9, 2.0}).g == Approx(0).margin(1e-12));
+    // sunsky: the same sky plus the sun's irradiance in one map.
+    d.sunRadiusScale = 2;
+    const auto sunsky = makeDaylightEmitters(d, true, true, "sunsky");
+    const auto sun = makeDaylightEmitters(d, false, true, "sun");
+    REQUIRE(sunsky.size() == 1);
+    for (Emitter* e : {sky[0].get(), sunsky[0].get(), sun[0].get()})
+        e->setSceneBounds({}, 1);
+    CHECK(sunsky[0]->power().b == Approx(sky[0]->power().b + sun[0]->power().b).epsilon(1e-9));
+    checkDirectConsistency(*sunsky[0], {0.1, 0.2, 0.3}, 20000, 112);
+    checkWithin(emittedPower(*sunsky[0], 100000, 113, 1), sunsky[0]->power().g);
+}
+
+TEST_CASE("sky and sun: settings out of range are refused", "[emitter][daylight]") {
+    DaylightSettings d;
+    d.sun = {0.5, 0};
+    auto refused = [&](DaylightSettings bad) {
+        return test::errorOf([&] { makeDaylightEmitters(bad, true, true, "sunsky"); });
+    };
+    DaylightSettings t = d;
+    t.turbidity = 11;
+    CHECK(refused(t) == "turbidity must be in [1, 10]");
+    t.turbidity = std::nan("");
+    CHECK(refused(t) == "turbidity must be in [1, 10]");
+    DaylightSettings a = d;
+    a.albedo = Spectrum(0.2, 1.5, 0.2);
+    CHECK(refused(a) == "albedo must be in [0, 1]");
+    DaylightSettings st = d;
+    st.stretch = 0.5;
+    CHECK(refused(st) == "stretch must be in [1, 2]");
+    DaylightSettings r = d;
+    r.resolution = 1;
+    CHECK(refused(r) == "resolution must be in [2, 16384]");
+    DaylightSettings below = d;
+    below.sun.zenith = 1.7;
+    CHECK(refused(below).find("the sun is below the horizon") == 0);
+    DaylightSettings huge = d;
+    huge.sunRadiusScale = 1000;
+    CHECK(refused(huge).find("sunRadiusScale must be in [0, ") == 0);
 }

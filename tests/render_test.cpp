@@ -10,6 +10,8 @@
 #include "math/rng.h"
 #include "reconstruct/gradient_image.h"
 #include "sampling/render.h"
+#include "scene/emitters/preetham_sun.h"
+#include "scene/emitters/sun_sky.h"
 #include "scene/scene.h"
 #include "test_util.h"
 
@@ -210,6 +212,43 @@ TEST_CASE("a diffuse plane under a point light: L = rho/pi I cos / d^2", "[rende
         CHECK(std::abs(r.mean) < 5 * r.stderr_ + 1e-6);
         // And the image is not trivially close: the expected values span a range.
         CHECK(*std::max_element(expected.begin(), expected.end()) > 2 * *std::min_element(expected.begin(), expected.end()));
+    }
+}
+
+TEST_CASE("a diffuse plane in sunlight: L = rho/pi E cos, for the sun disk in a map and as a directional light",
+          "[render][daylight]") {
+    test::TempDir dir;
+    // The sun 40 degrees from the zenith, turbidity 3; a plane of albedo 0.5 seen from above.
+    const double rho = 0.5, zenith = 40 * Pi / 180;
+    const Spectrum E = preethamSunRadiance(zenith, 3) * (TwoPi * (1 - std::cos(SunAngularRadius)));
+    for (const char* radiusScale : {"1", "0"}) {
+        CAPTURE(radiusScale);
+        const auto scene = loadScene(dir.write("sun.xml", std::string(R"(<scene version="0.6.0">
+  <sensor type="perspective"><float name="fov" value="30"/>
+    <transform name="toWorld"><lookat origin="0,4,0" target="0,0,0" up="0,0,-1"/></transform>
+    <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/><rfilter type="box"/></film>
+  </sensor>
+  <emitter type="sun"><vector name="sunDirection" x="0" y=")") +
+                                                              std::to_string(std::cos(zenith)) + R"(" z=")" +
+                                                              std::to_string(std::sin(zenith)) + R"("/>
+    <integer name="resolution" value="2048"/><float name="sunRadiusScale" value=")" +
+                                                              radiusScale + R"("/></emitter>
+  <shape type="rectangle"><transform name="toWorld"><scale value="10"/><rotate x="1" angle="-90"/></transform>
+    <bsdf type="diffuse"><rgb name="reflectance" value="0.5"/></bsdf></shape>
+</scene>)"));
+        const double expected = rho / Pi * E.g * std::cos(zenith);
+        // The map moves the disk's light to the centres of the texels it covers: at most a texel
+        // (2 pi / 2048) away, which changes cos(zenith) by at most sin(zenith) times that.
+        const double texelBias = std::string(radiusScale) == "1" ? rho / Pi * E.g * std::sin(zenith) * TwoPi / 2048 : 0;
+        for (PixelMethod m : {PixelMethod::Bdpt, PixelMethod::PathTracing}) {
+            CAPTURE(int(m));
+            PathSettings b;
+            b.maxDepth = 2;
+            const auto img = renderImage(*scene, m, 8, b);
+            const PixelStats s = stats(img, 16, 0, 0, 16, 16);
+            INFO("mean " << s.mean << " +- " << s.stderr_ << ", expected " << expected);
+            CHECK(std::abs(s.mean - expected) <= 5 * s.stderr_ + texelBias + 1e-6 * expected);
+        }
     }
 }
 

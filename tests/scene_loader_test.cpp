@@ -299,6 +299,52 @@ TEST_CASE("every emitter kind builds from XML", "[loader]") {
     CHECK(s->emitters[4]->evalEnvironment(normalize(Vec3(0.3, 0.5, 0.8))).g == Approx(1.0).epsilon(1e-5));
 }
 
+TEST_CASE("sky, sun and sunsky build from XML as Mitsuba 0.6 reads them", "[loader][daylight]") {
+    test::TempDir dir;
+    SECTION("defaults: Tokyo, 10 July 2010, 15:00; one map") {
+        const auto s = loadScene(sceneFile(dir, R"(<emitter type="sunsky"/>)"));
+        REQUIRE(s->emitters.size() == 1);
+        CHECK(s->emitters[0]->typeName() == "sunsky");
+        CHECK(s->emitters[0]->isInfinite());
+        CHECK_FALSE(s->emitters[0]->isDelta());
+        // In the afternoon the sun stands in the west (-x of the sky frame) and south (+z): the map is
+        // brighter there than toward the north-east at the same height.
+        const Spectrum west = s->emitters[0]->evalEnvironment(normalize(Vec3(-1, 1, 0.3)));
+        const Spectrum east = s->emitters[0]->evalEnvironment(normalize(Vec3(1, 1, -0.3)));
+        CHECK(west.luminance() > east.luminance());
+    }
+    SECTION("sunDirection in world space through toWorld; sunRadiusScale 0 adds a directional sun") {
+        const auto s = loadScene(sceneFile(dir, R"(<emitter type="sunsky">
+            <vector name="sunDirection" x="0" y="1" z="1"/><float name="sunRadiusScale" value="0"/>
+            <transform name="toWorld"><rotate y="1" angle="90"/></transform></emitter>)"));
+        REQUIRE(s->emitters.size() == 2);
+        CHECK(s->emitters[0]->typeName() == "sunsky");
+        CHECK(s->emitters[1]->typeName() == "directional");
+        s->emitters[1]->setSceneBounds({}, 1);
+        const DirectSample ds = s->emitters[1]->sampleDirect({0, 0, 0}, {0.5, 0.5});
+        CHECK(length(ds.wi - normalize(Vec3(0, 1, 1))) < 1e-9);
+    }
+    SECTION("sky alone and sun alone") {
+        const auto s = loadScene(sceneFile(dir, R"(<emitter type="sky"><float name="turbidity" value="5"/>
+            <rgb name="albedo" value="0.1, 0.2, 0.3"/><float name="hour" value="10"/></emitter>
+            <emitter type="sun"><float name="hour" value="10"/><float name="sunRadiusScale" value="3"/></emitter>)"));
+        REQUIRE(s->emitters.size() == 2);
+        CHECK(s->emitters[0]->typeName() == "sky");
+        CHECK(s->emitters[1]->typeName() == "sun");
+    }
+    SECTION("errors name the file, the line and what is wrong") {
+        const std::string f = dir.file("scene.xml");
+        sceneFile(dir, "<emitter type=\"sunsky\">\n<float name=\"turbidity\" value=\"12\"/></emitter>");
+        CHECK_THAT(errorOf(f), Equals(f + ":2: <emitter type=\"sunsky\">: turbidity must be in [1, 10]"));
+        sceneFile(dir, "<emitter type=\"sky\"><float name=\"hour\" value=\"23\"/></emitter>");
+        CHECK_THAT(errorOf(f), StartsWith(f + ":2: <emitter type=\"sky\">: the sun is below the horizon ("));
+        sceneFile(dir, "<emitter type=\"sun\"><vector name=\"sunDirection\" x=\"0\" y=\"1\" z=\"0\"/>"
+                       "<float name=\"latitude\" value=\"40\"/></emitter>");
+        CHECK_THAT(errorOf(f), Equals(f + ":2: <emitter type=\"sun\">: give the sun either by sunDirection or by time "
+                                          "and place, not both (latitude with sunDirection)"));
+    }
+}
+
 TEST_CASE("the sensor: film, crop, filters, sampler and integrator defaults", "[loader]") {
     test::TempDir dir;
     const auto s = loadScene(sceneFile(dir, R"(

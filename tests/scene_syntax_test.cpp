@@ -16,6 +16,7 @@
 using namespace lt;
 using Catch::Matchers::Contains;
 using Catch::Matchers::Equals;
+using Catch::Matchers::StartsWith;
 
 namespace {
 
@@ -218,6 +219,11 @@ TEST_CASE("Mitsuba 3 plugin differences", "[loader][syntax]") {
         const auto s = loadScene(f);
         REQUIRE(s->warnings.size() == 1);
         CHECK_THAT(s->warnings[0], Contains(f + ":2: <shape type=\"sphere\">: property 'some_option' is not read"));
+    }
+    SECTION("Mitsuba 3's sunsky is another model: refused, never read as 0.6's") {
+        const std::string f = scene3(R"(<emitter type="sunsky"><float name="turbidity" value="3"/></emitter>)");
+        CHECK_THAT(loadError(f),
+                   StartsWith(f + ":2: <emitter type=\"sunsky\">: Mitsuba 3's sunsky is not Mitsuba 0.6's"));
     }
     SECTION("a version lt does not read is refused with file and line") {
         const std::string f = dir.write("v.xml", "<scene version=\"1.0.0\">\n</scene>\n");

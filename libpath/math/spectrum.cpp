@@ -22,16 +22,13 @@ Vec3 cieXyz(double nm) {
     const double z = 1.217 * gaussianPiecewise(nm, 437.0, 11.8, 36.0) + 0.681 * gaussianPiecewise(nm, 459.0, 26.0, 13.8);
     return {x, y, z};
 }
-Vec3 xyzToLinearSrgb(const Vec3& c) {
-    return {3.240479 * c.x - 1.537150 * c.y - 0.498535 * c.z, -0.969256 * c.x + 1.875991 * c.y + 0.041556 * c.z,
-            0.055648 * c.x - 0.204043 * c.y + 1.057311 * c.z};
-}
+} // namespace
 
-// Piecewise-linear interpolation of the samples, constant beyond the ends (Mitsuba's
-// InterpolatedSpectrum clamps the same way).
-double interpolate(std::span<const std::pair<double, double>> s, double nm) {
-    if (nm <= s.front().first) return s.front().second;
-    if (nm >= s.back().first) return s.back().second;
+double interpolateSamples(std::span<const std::pair<double, double>> s, double nm, BeyondSamples beyond) {
+    if (nm < s.front().first || nm > s.back().first) {
+        if (beyond == BeyondSamples::Zero) return 0;
+        return nm < s.front().first ? s.front().second : s.back().second;
+    }
     for (size_t i = 1; i < s.size(); ++i)
         if (nm <= s[i].first) {
             const double t = (nm - s[i - 1].first) / (s[i].first - s[i - 1].first);
@@ -40,22 +37,31 @@ double interpolate(std::span<const std::pair<double, double>> s, double nm) {
     return s.back().second;
 }
 
-Vec3 integrateRgb(auto&& value) {
+Vec3 spectrumToXyz(const std::function<double(double)>& value) {
+    static const double yIntegral = [] {
+        double y = 0;
+        for (double nm = 360.0; nm <= 830.0; nm += 1.0)
+            y += cieXyz(nm).y;
+        return y;
+    }();
     Vec3 xyz;
     for (double nm = 360.0; nm <= 830.0; nm += 1.0) xyz += cieXyz(nm) * value(nm);
-    return xyzToLinearSrgb(xyz);
+    return xyz / yIntegral;
 }
 
-} // namespace
+Spectrum xyzToRgb(const Vec3& c) {
+    return {3.240479 * c.x - 1.537150 * c.y - 0.498535 * c.z, -0.969256 * c.x + 1.875991 * c.y + 0.041556 * c.z,
+            0.055648 * c.x - 0.204043 * c.y + 1.057311 * c.z};
+}
 
 Spectrum spectrumToRgb(std::span<const std::pair<double, double>> samples) {
     if (samples.empty()) throw Error("spectrum has no samples");
     for (size_t i = 1; i < samples.size(); ++i)
         if (!(samples[i].first > samples[i - 1].first))
             throw Error("spectrum wavelengths must be strictly ascending");
-    static const Vec3 white = integrateRgb([](double) { return 1.0; });
-    const Vec3 rgb = integrateRgb([&](double nm) { return interpolate(samples, nm); }) / white;
-    return {rgb.x, rgb.y, rgb.z};
+    static const Spectrum white = xyzToRgb(spectrumToXyz([](double) { return 1.0; }));
+    return xyzToRgb(spectrumToXyz([&](double nm) { return interpolateSamples(samples, nm, BeyondSamples::Clamp); })) /
+           white;
 }
 
 } // namespace lt

@@ -2,6 +2,7 @@
 // given as wavelength:value lists are converted once, at load time (see spectrum.cpp).
 #pragma once
 
+#include <functional>
 #include <span>
 #include <utility>
 
@@ -44,6 +45,18 @@ inline Spectrum exp(const Spectrum& v) { return {std::exp(v.r), std::exp(v.g), s
 inline Spectrum max(const Spectrum& a, const Spectrum& b) {
     return {std::max(a.r, b.r), std::max(a.g, b.g), std::max(a.b, b.b)};
 }
+
+// Piecewise-linear interpolation of (nm, value) samples in ascending order. Beyond the ends: the end values
+// (Clamp; Mitsuba's reading of a <spectrum> list) or zero (Zero; Mitsuba's InterpolatedSpectrum reading a
+// tabulated quantity, such as the sun model's).
+enum class BeyondSamples { Clamp, Zero };
+double interpolateSamples(std::span<const std::pair<double, double>> samples, double nm, BeyondSamples beyond);
+
+// CIE 1931 XYZ of a spectrum given as a function of the wavelength in nm, integrated over 360-830 nm and
+// scaled so that the constant spectrum 1 has Y = 1 (Mitsuba's Spectrum::fromContinuousSpectrum in RGB mode).
+Vec3 spectrumToXyz(const std::function<double(double)>& value);
+// Linear sRGB (Rec. 709 primaries, D65) of CIE XYZ.
+Spectrum xyzToRgb(const Vec3& xyz);
 
 // Convert a sampled spectrum (wavelengths in nm, ascending, with values) to linear sRGB: integrate
 // against the CIE 1931 observer, XYZ -> sRGB, and white-balance so that a constant spectrum c maps to

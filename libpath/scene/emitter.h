@@ -1,4 +1,5 @@
-// Emitters: the closed set Mitsuba 0.5 scenes use (area, point, spot, directional, constant, envmap).
+// Emitters: the closed set Mitsuba 0.5/0.6 scenes use (area, point, spot, directional, constant, envmap; sky,
+// sun and sunsky become an envmap and a directional emitter, scene/emitters/sun_sky.h).
 //
 // Conventions:
 // * "direct" sampling picks a point on the emitter as seen from a reference point (next-event
@@ -13,6 +14,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "math/distribution.h"
 #include "math/spectrum.h"
@@ -110,5 +112,13 @@ std::unique_ptr<Emitter> makeConstantEmitter(const Spectrum& radiance);
 // Lat-long environment map read with OpenImageIO (Mitsuba's envmap orientation: +y up, toWorld
 // applied), importance sampled by luminance x sin(theta). Throws lt::Error naming the file.
 std::unique_ptr<Emitter> makeEnvmapEmitter(const std::string& filename, const Transform& toWorld, double scale);
+// A lat-long image in memory, row-major, Mitsuba's envmap layout (scene/emitters/lat_long.h).
+struct LatLongImage {
+    int width = 0, height = 0;
+    std::vector<Spectrum> pixels;
+};
+// The same emitter on an image made in memory (the sky and sun models bake theirs); `type` is the
+// plugin name it reports (typeName()).
+std::unique_ptr<Emitter> makeEnvmapEmitter(LatLongImage image, const Transform& toWorld, const std::string& type);
 
 } // namespace lt

@@ -77,6 +77,12 @@ void translateMitsuba3Plugin(SceneObject& o) {
         p.line = o.line;
         o.props.emplace(key, std::move(p));
     };
+    // Mitsuba 3's sunsky (3.6 and later) pairs the sky with another sun model and its own units: reading it
+    // as 0.6's would render a different daylight without a word.
+    if (o.tag == "emitter" && (o.type == "sunsky" || o.type == "sun" || o.type == "sky"))
+        o.fail("Mitsuba 3's " + o.type +
+               " is not Mitsuba 0.6's (another sun model and scale); lt reads 0.6's: "
+               "write the scene's daylight in a version=\"0.6.0\" file and include it");
     if (o.tag == "bsdf" && (o.type == "conductor" || o.type == "roughconductor") && !o.has("material")) {
         if (!o.has("eta") && !o.has("k")) {
             Property p;

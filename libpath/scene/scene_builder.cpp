@@ -10,6 +10,8 @@
 
 #include "math/constants.h"
 #include "math/error.h"
+#include "scene/emitters/sun_position.h"
+#include "scene/emitters/sun_sky.h"
 #include "scene/missing_file.h"
 #include "scene/plugin_factory.h"
 #include "scene/scene.h"
@@ -281,8 +283,56 @@ private:
         scene_.shapes.push_back(std::move(shape));
     }
 
+    // Mitsuba 0.6's sky, sun and sunsky (sunmodel.h computeSunCoordinates, sky.cpp, sun.cpp, sunsky.cpp).
+    std::vector<std::unique_ptr<Emitter>> buildDaylight(const SceneObject& o) {
+        const bool sky = o.type != "sun", sun = o.type != "sky";
+        DaylightSettings d;
+        d.toWorld = o.getTransform("toWorld", Transform());
+        if (o.has("sunDirection")) {
+            for (const char* k : {"latitude", "longitude", "timezone", "day", "time"})
+                if (o.has(k))
+                    o.fail(std::string("give the sun either by sunDirection or by time and place, not both (") + k +
+                           " with sunDirection)");
+            const Vec3 local = d.toWorld.inverse().vector(o.getVector("sunDirection"));
+            if (!(length(local) > 0)) o.fail("sunDirection must be non-zero");
+            d.sun = skyAngles(normalize(local));
+        } else {
+            SunLocation place;
+            place.latitude = o.getFloat("latitude", place.latitude);
+            place.longitude = o.getFloat("longitude", place.longitude);
+            place.timezone = o.getFloat("timezone", place.timezone);
+            SunTime time;
+            time.year = o.getInteger("year", time.year);
+            time.month = o.getInteger("month", time.month);
+            time.day = o.getInteger("day", time.day);
+            time.hour = o.getFloat("hour", time.hour);
+            time.minute = o.getFloat("minute", time.minute);
+            time.second = o.getFloat("second", time.second);
+            if (time.month < 1 || time.month > 12 || time.day < 1 || time.day > 31)
+                o.fail("month must be in [1, 12] and day in [1, 31]");
+            d.sun = sunPosition(time, place);
+            if (!std::isfinite(d.sun.zenith) || !std::isfinite(d.sun.azimuth))
+                o.fail("the time and place give no sun position (a number is not finite)");
+        }
+        d.turbidity = o.getFloat("turbidity", d.turbidity);
+        d.stretch = o.getFloat("stretch", d.stretch);
+        d.resolution = o.getInteger("resolution", d.resolution);
+        const double scale = o.getFloat("scale", 1.0);
+        if (sky) {
+            d.albedo = o.getSpectrum("albedo", d.albedo);
+            d.extend = o.getBoolean("extend", d.extend);
+            d.skyScale = sun ? o.getFloat("skyScale", scale) : scale;
+        }
+        if (sun) {
+            d.sunScale = sky ? o.getFloat("sunScale", scale) : scale;
+            d.sunRadiusScale = o.getFloat("sunRadiusScale", d.sunRadiusScale);
+        }
+        return makeDaylightEmitters(d, sky, sun, o.type);
+    }
+
     void buildEmitter(const SceneObject& o) {
         std::unique_ptr<Emitter> e;
+        std::vector<std::unique_ptr<Emitter>> daylight;
         try {
             if (o.type == "point") {
                 const Vec3 pos = o.has("position") ? o.getPoint("position")
@@ -302,17 +352,23 @@ private:
             } else if (o.type == "envmap") {
                 e = makeEnvmapEmitter(resolve(o, o.getString("filename")), o.getTransform("toWorld", Transform()),
                                       o.getFloat("scale", 1.0));
+            } else if (o.type == "sky" || o.type == "sun" || o.type == "sunsky") {
+                daylight = buildDaylight(o);
             } else {
-                o.fail("unknown emitter type (lt reads area, point, spot, directional, constant, envmap)");
+                o.fail("unknown emitter type (lt reads area, point, spot, directional, constant, envmap, sky, sun, "
+                       "sunsky)");
             }
         } catch (const Error& err) {
             const std::string what = err.what();
             if (what.find(o.file + ':') == 0) throw;
             o.fail(what);
         }
-        e->origin = o.file + ':' + std::to_string(o.line);
+        if (e) daylight.push_back(std::move(e));
+        for (auto& emitter : daylight) {
+            emitter->origin = o.file + ':' + std::to_string(o.line);
+            scene_.emitters.push_back(std::move(emitter));
+        }
         finish(o, {"samplingWeight", "gamma", "cache"});
-        scene_.emitters.push_back(std::move(e));
     }
 
     void buildSensor(const SceneObject& o) {

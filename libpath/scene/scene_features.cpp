@@ -73,7 +73,8 @@ SceneFeatures analyzeScene(const Scene& scene) {
                                   : "no shape marked portal: the portal perturbation cannot apply";
     for (const auto& e : scene.emitters)
         if (e->isInfinite() && !(e->flags() & EmitterDeltaDirection)) f.environmentLight = true;
-    f.environmentReason = f.environmentLight ? "an environment emitter (constant or envmap)" : "no environment emitter";
+    f.environmentReason =
+        f.environmentLight ? "an emitter at infinity (constant, envmap, sky, sun or sunsky)" : "no environment emitter";
     std::vector<std::string> deltaTypes, hittableTypes;
     for (const auto& e : scene.emitters) {
         auto& names = e->isDelta() ? deltaTypes : hittableTypes;

@@ -1,9 +1,7 @@
 // Mitsuba's `envmap` emitter: radiance at infinity from a latitude-longitude image.
 //
-// Mapping (Mitsuba envmap.cpp): a direction v toward the sky, in the emitter's local frame (+y up, so
-// v = toWorld^-1 dir), has image coordinates u = atan2(v.x, -v.z) / 2pi (wrapped to [0,1)) and
-// t = acos(v.y) / pi; row 0 of the image is the zenith. Inversely phi = 2pi u, theta = pi t and
-// v = (sin phi sin theta, cos theta, -cos phi sin theta).
+// Mapping: Mitsuba's latitude-longitude one (lat_long.h) of a direction v toward the sky in the emitter's
+// local frame (+y up, v = toWorld^-1 dir): image coordinates u = phi / 2pi, t = theta / pi.
 //
 // Lookups are piecewise constant (the texel containing (u, t)), where Mitsuba filters bilinearly: the
 // radiance is then exactly the function the piecewise-constant sampling density below follows, so
@@ -17,6 +15,7 @@
 #include "math/error.h"
 #include "math/rigid.h"
 #include "scene/emitter.h"
+#include "scene/emitters/lat_long.h"
 #include "scene/emitters/scene_disk.h"
 #include "texture/image_file.h"
 
@@ -26,10 +25,10 @@ namespace {
 
 class EnvmapEmitter final : public Emitter {
 public:
-    EnvmapEmitter(const std::string& filename, const Transform& toWorld, double scale)
-        : toWorld_(toWorld), toLocal_(toWorld.inverse()), scale_(scale) {
-        if (!isRigid(toWorld)) throw Error(filename + ": envmap toWorld must be a rotation");
-        load(filename);
+    EnvmapEmitter(LatLongImage image, const Transform& toWorld, double scale, std::string type)
+        : toWorld_(toWorld), toLocal_(toWorld.inverse()), scale_(scale), width_(image.width), height_(image.height),
+          pixels_(std::move(image.pixels)), type_(std::move(type)) {
+        if (!isRigid(toWorld)) throw Error(type_ + " toWorld must be a rotation");
         // Importance: luminance times sin(theta) at the row center (Mitsuba's row weights), so that the
         // density in (u, t) follows L dw = L sin(theta) dtheta dphi.
         std::vector<double> weights(size_t(width_) * size_t(height_));
@@ -44,11 +43,12 @@ public:
             }
         }
         distribution_ = Distribution2D(weights, width_, height_);
-        if (distribution_.empty()) throw Error(filename + ": the environment map is completely black");
+        if (distribution_.empty())
+            throw Error((type_ == "envmap" ? "the environment map" : "the " + type_) + " is completely black");
     }
 
     [[nodiscard]] uint8_t flags() const override { return EmitterInfinite; }
-    [[nodiscard]] std::string typeName() const override { return "envmap"; }
+    [[nodiscard]] std::string typeName() const override { return type_; }
     void setSceneBounds(const Vec3& center, double radius) override { disk_ = {center, radius}; }
 
     [[nodiscard]] DirectSample sampleDirect(const Vec3& ref, const Vec2& u) const override {
@@ -98,46 +98,21 @@ public:
     [[nodiscard]] Spectrum power() const override { return skyIntegral_ * disk_.area(); }
 
 private:
-    void load(const std::string& filename) {
-        if (!std::filesystem::exists(filename)) throw Error(filename + ": file not found");
-        const ImageFile image = readImageFile(filename);
-        width_ = image.width;
-        height_ = image.height;
-        const int channels = image.channels;
-        const std::vector<float>& data = image.pixels;
-        // RGB from the first three channels; a gray image fills all three.
-        pixels_.resize(size_t(width_) * size_t(height_));
-        for (int y = 0; y < height_; ++y)
-            for (int x = 0; x < width_; ++x) {
-                const float* px = &data[(size_t(y) * width_ + x) * channels];
-                const Spectrum v = channels >= 3 ? Spectrum(px[0], px[1], px[2]) : Spectrum(px[0]);
-                if (!v.isFinite())
-                    throw Error(filename + ": pixel (" + std::to_string(x) + ", " + std::to_string(y) +
-                                ") is NaN or infinite");
-                pixels_[size_t(y) * width_ + x] = v;
-            }
-    }
-
     [[nodiscard]] const Spectrum& texel(int x, int y) const { return pixels_[size_t(y) * width_ + x]; }
     [[nodiscard]] int column(double u) const { return std::clamp(int(u * width_), 0, width_ - 1); }
     [[nodiscard]] int row(double t) const { return std::clamp(int(t * height_), 0, height_ - 1); }
 
     // World direction toward the sky -> (u, t) in [0,1]^2.
     [[nodiscard]] Vec2 toImage(const Vec3& dirWorld) const {
-        const Vec3 v = normalize(toLocal_.vector(dirWorld));
-        double u = std::atan2(v.x, -v.z) * InvTwoPi;
-        if (u < 0) u += 1;
-        return {u, safeAcos(v.y) * InvPi};
+        const SkyAngles a = skyAngles(normalize(toLocal_.vector(dirWorld)));
+        return {a.azimuth * InvTwoPi, a.zenith * InvPi};
     }
 
     // A world direction toward the sky, by the image distribution.
     [[nodiscard]] Vec3 sampleSky(const Vec2& u) const {
         double pdfUv;
         const Vec2 uv = distribution_.sample(u, pdfUv);
-        const double phi = TwoPi * uv.x, theta = Pi * uv.y;
-        const double sinTheta = std::sin(theta);
-        const Vec3 local{std::sin(phi) * sinTheta, std::cos(theta), -std::cos(phi) * sinTheta};
-        return normalize(toWorld_.vector(local));
+        return normalize(toWorld_.vector(skyDirection({Pi * uv.y, TwoPi * uv.x})));
     }
 
     // Solid-angle density of sampleSky: p(u, t) / (2 pi^2 sin theta), from dw = sin(theta) dtheta dphi
@@ -156,12 +131,42 @@ private:
     Distribution2D distribution_;
     Spectrum skyIntegral_;   // integral of the scaled radiance over the sphere of directions
     SceneDisk disk_;
+    std::string type_;
 };
+
+// RGB from the first three channels; a gray image fills all three.
+LatLongImage readLatLongImage(const std::string& filename) {
+    if (!std::filesystem::exists(filename)) throw Error(filename + ": file not found");
+    const ImageFile file = readImageFile(filename);
+    LatLongImage image{file.width, file.height, {}};
+    const int channels = file.channels;
+    image.pixels.resize(size_t(image.width) * size_t(image.height));
+    for (int y = 0; y < image.height; ++y)
+        for (int x = 0; x < image.width; ++x) {
+            const float* px = &file.pixels[(size_t(y) * image.width + x) * channels];
+            const Spectrum v = channels >= 3 ? Spectrum(px[0], px[1], px[2]) : Spectrum(px[0]);
+            if (!v.isFinite())
+                throw Error(filename + ": pixel (" + std::to_string(x) + ", " + std::to_string(y) +
+                            ") is NaN or infinite");
+            image.pixels[size_t(y) * image.width + x] = v;
+        }
+    return image;
+}
 
 } // namespace
 
 std::unique_ptr<Emitter> makeEnvmapEmitter(const std::string& filename, const Transform& toWorld, double scale) {
-    return std::make_unique<EnvmapEmitter>(filename, toWorld, scale);
+    try {
+        return std::make_unique<EnvmapEmitter>(readLatLongImage(filename), toWorld, scale, "envmap");
+    } catch (const Error& e) {
+        const std::string what = e.what();
+        if (what.rfind(filename, 0) == 0) throw;
+        throw Error(filename + ": " + what);
+    }
+}
+
+std::unique_ptr<Emitter> makeEnvmapEmitter(LatLongImage image, const Transform& toWorld, const std::string& type) {
+    return std::make_unique<EnvmapEmitter>(std::move(image), toWorld, 1.0, type);
 }
 
 } // namespace lt

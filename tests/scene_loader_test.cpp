@@ -345,6 +345,31 @@ TEST_CASE("sky, sun and sunsky build from XML as Mitsuba 0.6 reads them", "[load
     }
 }
 
+TEST_CASE("bitmap filterType and wrap modes as Mitsuba 0.6 names them", "[loader]") {
+    test::TempDir dir;
+    writeExr(dir.file("t.exr"), 4, 4, 0.5f);
+    auto bitmap = [&](const std::string& props) {
+        return sceneFile(dir, "<bsdf type=\"diffuse\" id=\"d\">\n<texture type=\"bitmap\" name=\"reflectance\">\n"
+                              "<string name=\"filename\" value=\"t.exr\"/>" +
+                                  props + "</texture></bsdf>");
+    };
+    for (const char* ok : {R"(<string name="filterType" value="nearest"/><string name="wrapMode" value="mirror"/>)",
+                           R"(<string name="filterType" value="trilinear"/><string name="wrapModeU" value="clamp"/>
+                              <string name="wrapModeV" value="zero"/>)",
+                           R"(<string name="wrapMode" value="one"/><string name="filterType" value="ewa"/>)"}) {
+        CAPTURE(ok);
+        const auto s = loadScene(bitmap(ok), {}, UnknownProperties::Fail);
+        CHECK(s->bsdfs.size() == 1);
+    }
+    const std::string f = dir.file("scene.xml");
+    bitmap(R"(<string name="wrapMode" value="wrap"/>)");
+    CHECK_THAT(errorOf(f), Equals(f + ":3: <texture type=\"bitmap\">: wrap mode 'wrap' is not one of repeat, mirror, "
+                                      "clamp, zero, one"));
+    bitmap(R"(<string name="filterType" value="cubic"/>)");
+    CHECK_THAT(errorOf(f), Equals(f + ":3: <texture type=\"bitmap\">: filterType 'cubic' is not one of ewa, trilinear, "
+                                      "bilinear, nearest"));
+}
+
 TEST_CASE("the sensor: film, crop, filters, sampler and integrator defaults", "[loader]") {
     test::TempDir dir;
     const auto s = loadScene(sceneFile(dir, R"(

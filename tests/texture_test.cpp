@@ -1,5 +1,5 @@
-// Textures: Mitsuba 0.5's checkerboard and bitmap semantics (uv transform, orientation, bilinear
-// lookups with repeat wrapping, sRGB / gamma decoding) and the error paths of BitmapTexture.
+// Textures: Mitsuba 0.5/0.6 checkerboard and bitmap semantics (uv transform, orientation, bilinear and nearest
+// lookups, the wrap modes, sRGB / gamma decoding) and the error paths of BitmapTexture.
 #include <OpenImageIO/imageio.h>
 
 #include <catch2/catch.hpp>
@@ -100,6 +100,45 @@ TEST_CASE("bitmap: orientation, bilinear filtering, repeat wrapping and the uv t
     // uv' = uv * scale + offset.
     const BitmapTexture scaled(file, 0, Vec2(0.5, 0), Vec2(2, 2));
     checkSpectrum(scaled.eval({0.125, 0.125}), Spectrum(0, 1, 0)); // uv' = (0.75, 0.25)
+}
+
+TEST_CASE("bitmap: Mitsuba 0.6's wrap modes per axis and the nearest filter", "[texture]") {
+    TempDir dir;
+    // 3x1 grey image 1, 2, 4 (one row: v wraps trivially except for zero and one).
+    const std::vector<float> pixels = {1, 1, 1, 2, 2, 2, 4, 4, 4};
+    const std::string file = writeImage(dir.path / "row.exr", 3, 1, 3, OIIO::TypeDesc::FLOAT, pixels);
+    using Wrap = BitmapLookup::Wrap;
+    auto at = [&](Wrap u, Wrap v, BitmapLookup::Filter f, double x, double y = 0.5) {
+        return BitmapTexture(file, 0, kNoOffset, kUnitScale, "", {f, u, v}).eval({x, y}).g;
+    };
+    const auto Nearest = BitmapLookup::Filter::Nearest, Bilinear = BitmapLookup::Filter::Bilinear;
+    // Texel centres at u = 1/6, 1/2, 5/6; u = 7/6 is the centre of the texel after the last one.
+    const double next = 7.0 / 6, before = -1.0 / 6;
+    CHECK(at(Wrap::Repeat, Wrap::Repeat, Nearest, next) == 1); // the first texel again
+    CHECK(at(Wrap::Mirror, Wrap::Repeat, Nearest, next) == 4); // the last texel, reflected
+    CHECK(at(Wrap::Mirror, Wrap::Repeat, Nearest, 9.0 / 6) == 2);
+    CHECK(at(Wrap::Mirror, Wrap::Repeat, Nearest, 11.0 / 6) == 1);
+    CHECK(at(Wrap::Mirror, Wrap::Repeat, Nearest, before) == 1);
+    CHECK(at(Wrap::Clamp, Wrap::Repeat, Nearest, 5.0) == 4);
+    CHECK(at(Wrap::Clamp, Wrap::Repeat, Nearest, -5.0) == 1);
+    CHECK(at(Wrap::Zero, Wrap::Repeat, Nearest, next) == 0);
+    CHECK(at(Wrap::One, Wrap::Repeat, Nearest, before) == 1);
+    CHECK(at(Wrap::One, Wrap::Repeat, Nearest, next) == 1);
+    // Per axis: v beyond the image with zero / one while u repeats.
+    CHECK(at(Wrap::Repeat, Wrap::Zero, Nearest, 0.5, 1.5) == 0);
+    CHECK(at(Wrap::Repeat, Wrap::One, Nearest, 0.5, -0.5) == 1);
+    CHECK(at(Wrap::Repeat, Wrap::Repeat, Nearest, 0.5, 1.5) == 2);
+    // Nearest holds a texel's value up to its edges; bilinear blends toward the neighbour.
+    CHECK(at(Wrap::Repeat, Wrap::Repeat, Nearest, 0.66) == 2);
+    CHECK(at(Wrap::Repeat, Wrap::Repeat, Bilinear, 0.66) == Approx(2 + 2 * (0.66 * 3 - 1.5)));
+    // Bilinear at the last texel's right edge: half of it and half of what lies beyond.
+    CHECK(at(Wrap::Repeat, Wrap::Repeat, Bilinear, 1.0) == Approx(2.5)); // (4 + 1) / 2
+    CHECK(at(Wrap::Mirror, Wrap::Repeat, Bilinear, 1.0) == Approx(4));   // (4 + 4) / 2
+    CHECK(at(Wrap::Clamp, Wrap::Repeat, Bilinear, 1.0) == Approx(4));
+    CHECK(at(Wrap::Zero, Wrap::Repeat, Bilinear, 1.0) == Approx(2));  // (4 + 0) / 2
+    CHECK(at(Wrap::One, Wrap::Repeat, Bilinear, 1.0) == Approx(2.5)); // (4 + 1) / 2
+    // The texture's maximum covers the constant 1 of `one`.
+    CHECK(BitmapTexture(file, 0, kNoOffset, kUnitScale, "", {Nearest, Wrap::One, Wrap::Repeat}).maximum().g == 4);
 }
 
 TEST_CASE("bitmap: 8-bit images are decoded from sRGB unless gamma says otherwise", "[texture]") {

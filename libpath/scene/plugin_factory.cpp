@@ -64,6 +64,17 @@ void conductorIor(const SceneObject& o, Spectrum& eta, Spectrum& k) {
     k = preset->k;
 }
 
+// A bitmap's wrap mode by Mitsuba's name.
+BitmapLookup::Wrap wrapMode(const SceneObject& o, const std::string& name) {
+    using Wrap = BitmapLookup::Wrap;
+    if (name == "repeat") return Wrap::Repeat;
+    if (name == "mirror") return Wrap::Mirror;
+    if (name == "clamp") return Wrap::Clamp;
+    if (name == "zero") return Wrap::Zero;
+    if (name == "one") return Wrap::One;
+    o.fail("wrap mode '" + name + "' is not one of repeat, mirror, clamp, zero, one");
+}
+
 } // namespace
 
 double PluginFactory::ior(const SceneObject& o, const std::string& key, double def) {
@@ -114,16 +125,23 @@ std::shared_ptr<const Texture> PluginFactory::texture(const SceneObject& o) {
     const Vec2 scale{o.getFloat("uscale", 1.0), o.getFloat("vscale", 1.0)};
     std::shared_ptr<const Texture> t;
     if (o.type == "bitmap") {
+        BitmapLookup lookup;
+        const std::string filter = o.getString("filterType", "ewa");
+        if (filter == "nearest")
+            lookup.filter = BitmapLookup::Filter::Nearest;
+        else if (filter != "ewa" && filter != "trilinear" && filter != "bilinear")
+            o.fail("filterType '" + filter + "' is not one of ewa, trilinear, bilinear, nearest");
         const std::string wrap = o.getString("wrapMode", "repeat");
-        if (wrap != "repeat") o.fail("wrapMode '" + wrap + "' is not supported (lt repeats textures)");
+        lookup.wrapU = wrapMode(o, o.getString("wrapModeU", wrap));
+        lookup.wrapV = wrapMode(o, o.getString("wrapModeV", wrap));
         const std::string file = resolve_(o, o.getString("filename"));
         try {
             t = std::make_shared<BitmapTexture>(file, o.getFloat("gamma", 0.0), offset, scale,
-                                                o.getString("channel", ""));
+                                                o.getString("channel", ""), lookup);
         } catch (const Error& e) {
             o.fail(e.what());
         }
-        finish(o, {"filterType", "maxAnisotropy", "cache"});
+        finish(o, {"maxAnisotropy", "cache"});
     } else if (o.type == "checkerboard") {
         t = std::make_shared<CheckerboardTexture>(o.getSpectrum("color0", Spectrum(0.4)),
                                                   o.getSpectrum("color1", Spectrum(0.2)), offset, scale);

@@ -37,8 +37,8 @@ float srgbToLinear(float v) { return v <= 0.04045f ? v / 12.92f : std::pow((v + 
 } // namespace
 
 BitmapTexture::BitmapTexture(const std::string& filename, double gamma, const Vec2& offset, const Vec2& scale,
-                             const std::string& channel)
-    : offset_(offset), scale_(scale) {
+                             const std::string& channel, const BitmapLookup& lookup)
+    : lookup_(lookup), offset_(offset), scale_(scale) {
     // Mitsuba's bitmap `gamma`: 0 (the default) detects the encoding from the file, -1 forces the sRGB
     // curve, a positive value g decodes as value^g (1 = linear).
     if (!(gamma == 0 || gamma == -1 || gamma > 0))
@@ -99,6 +99,8 @@ BitmapTexture::BitmapTexture(const std::string& filename, double gamma, const Ve
             maximum_ = max(maximum_, texel(x, y));
         }
     average_ = sum / (double(width_) * double(height_));
+    if (lookup_.wrapU == BitmapLookup::Wrap::One || lookup_.wrapV == BitmapLookup::Wrap::One)
+        maximum_ = max(maximum_, Spectrum(1.0));
 }
 
 Spectrum BitmapTexture::texel(int x, int y) const {
@@ -106,22 +108,46 @@ Spectrum BitmapTexture::texel(int x, int y) const {
     return {p[0], p[1], p[2]};
 }
 
+Spectrum BitmapTexture::wrappedTexel(double x, double y) const {
+    using Wrap = BitmapLookup::Wrap;
+    // One axis: the texel index in [0, size), or -1 for outside with zero / one.
+    auto wrap = [](double i, int size, Wrap mode) -> int {
+        switch (mode) {
+        case Wrap::Repeat: {
+            const double m = std::fmod(i, double(size));
+            return int(m < 0 ? m + size : m);
+        }
+        case Wrap::Mirror: {
+            double m = std::fmod(i, 2.0 * size);
+            if (m < 0) m += 2.0 * size;
+            return int(m < size ? m : 2.0 * size - m - 1);
+        }
+        case Wrap::Clamp:
+            return int(std::clamp(i, 0.0, double(size - 1)));
+        case Wrap::Zero:
+        case Wrap::One:
+            return i >= 0 && i < size ? int(i) : -1;
+        }
+        return 0;
+    };
+    const int xi = wrap(x, width_, lookup_.wrapU), yi = wrap(y, height_, lookup_.wrapV);
+    if (xi < 0) return Spectrum(lookup_.wrapU == Wrap::One ? 1.0 : 0.0);
+    if (yi < 0) return Spectrum(lookup_.wrapV == Wrap::One ? 1.0 : 0.0);
+    return texel(xi, yi);
+}
+
 Spectrum BitmapTexture::eval(const Vec2& uv) const {
-    // Bilinear interpolation between the four nearest texel centres (Mitsuba's evalBilinear), wrapping
-    // around the edges (Mitsuba's default wrapMode `repeat`).
-    const double u = (uv.x * scale_.x + offset_.x) * width_ - 0.5;
-    const double v = (uv.y * scale_.y + offset_.y) * height_ - 0.5;
-    if (!std::isfinite(u) || !std::isfinite(v)) return Spectrum(0.0); // Mitsuba also answers 0 here
+    const double s = (uv.x * scale_.x + offset_.x) * width_;
+    const double t = (uv.y * scale_.y + offset_.y) * height_;
+    if (!std::isfinite(s) || !std::isfinite(t)) return Spectrum(0.0); // Mitsuba also answers 0 here
+    // Nearest: the texel containing the point (Mitsuba's evalBox at level 0).
+    if (lookup_.filter == BitmapLookup::Filter::Nearest) return wrappedTexel(std::floor(s), std::floor(t));
+    // Bilinear interpolation between the four nearest texel centres (Mitsuba's evalBilinear).
+    const double u = s - 0.5, v = t - 0.5;
     const double x0 = std::floor(u), y0 = std::floor(v);
     const double dx = u - x0, dy = v - y0;
-    auto wrap = [](double i, int size) {
-        const double m = std::fmod(i, double(size));
-        return int(m < 0 ? m + size : m);
-    };
-    const int xa = wrap(x0, width_), xb = wrap(x0 + 1, width_);
-    const int ya = wrap(y0, height_), yb = wrap(y0 + 1, height_);
-    return texel(xa, ya) * ((1 - dx) * (1 - dy)) + texel(xb, ya) * (dx * (1 - dy)) + texel(xa, yb) * ((1 - dx) * dy) +
-           texel(xb, yb) * (dx * dy);
+    return wrappedTexel(x0, y0) * ((1 - dx) * (1 - dy)) + wrappedTexel(x0 + 1, y0) * (dx * (1 - dy)) +
+           wrappedTexel(x0, y0 + 1) * ((1 - dx) * dy) + wrappedTexel(x0 + 1, y0 + 1) * (dx * dy);
 }
 
 } // namespace lt

@@ -50,7 +50,19 @@ private:
     Vec2 offset_, scale_;
 };
 
-// Mitsuba's `bitmap`: an image read through OpenImageIO, bilinear lookup with repeat wrapping. uv
+// How a bitmap is read between its texels and beyond its edges (Mitsuba 0.6's bitmap: `filterType`,
+// `wrapMode`, `wrapModeU`, `wrapModeV`; its mipmap.h evalTexel). Mitsuba's `ewa` and `trilinear` filter over a
+// ray differential's footprint; lt has no ray differentials and reads them bilinearly (the pixel filter and
+// the samples per pixel do the averaging). Beyond the edges: repeat, mirror (reflected copies), clamp (the
+// edge texel), zero or one (a constant).
+struct BitmapLookup {
+    enum class Filter { Bilinear, Nearest };
+    enum class Wrap { Repeat, Mirror, Clamp, Zero, One };
+    Filter filter = Filter::Bilinear;
+    Wrap wrapU = Wrap::Repeat, wrapV = Wrap::Repeat;
+};
+
+// Mitsuba's `bitmap`: an image read through OpenImageIO, looked up as BitmapLookup says. uv
 // (0, 0) is the top-left texel as in Mitsuba's MIP map; OBJ's bottom-left origin comes from the OBJ
 // loader flipping v (flipTexCoords). LDR 8-bit images are linearized from sRGB unless gamma says otherwise.
 // `channel` (Mitsuba's parameter: a channel name such as "r" or "a", any case) makes a grey texture of that
@@ -59,7 +71,7 @@ class BitmapTexture final : public Texture {
 public:
     // Throws lt::Error naming the file when it cannot be read, holds NaN or Inf, or has no such channel.
     BitmapTexture(const std::string& filename, double gamma, const Vec2& offset, const Vec2& scale,
-                  const std::string& channel = "");
+                  const std::string& channel = "", const BitmapLookup& lookup = {});
     [[nodiscard]] Spectrum eval(const Vec2& uv) const override;
     [[nodiscard]] Spectrum average() const override { return average_; }
     [[nodiscard]] Spectrum maximum() const override { return maximum_; }
@@ -68,7 +80,10 @@ public:
 
 private:
     [[nodiscard]] Spectrum texel(int x, int y) const;
+    // The texel at integer coordinates anywhere on the plane, by the wrap modes.
+    [[nodiscard]] Spectrum wrappedTexel(double x, double y) const;
     int width_ = 0, height_ = 0;
+    BitmapLookup lookup_;
     std::vector<float> rgb_;
     Spectrum average_, maximum_;
     Vec2 offset_, scale_;

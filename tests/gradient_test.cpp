@@ -174,6 +174,7 @@ TEST_CASE("a base path shifted onto its own primary hit is itself", "[gradient]"
     for (const char* name : {"cornell-box", "veach-mis", "glass-box", "caustic-mirror"}) {
         CAPTURE(name);
         const auto scene = loadScene(test::shippedScene(name));
+        const Vec3 eye = scene->camera.position(); // a pinhole: its one lens point
         const GradientSettings gs = settingsFor(*scene);
         Pcg32 rng(7, 1);
         const auto& f = scene->camera.film();
@@ -181,11 +182,11 @@ TEST_CASE("a base path shifted onto its own primary hit is itself", "[gradient]"
         for (int n = 0; n < 400; ++n) {
             const Vec2 raster(f.cropX + rng.nextDouble() * f.cropWidth, f.cropY + rng.nextDouble() * f.cropHeight);
             IndependentSampler sampler(uint64_t(n) + 1, 3);
-            const BasePath base =
-                traceBasePath(*scene, gs.paths, gs.shiftThreshold, raster, primaryVertex(*scene, raster), sampler);
+            const BasePath base = traceBasePath(*scene, gs.paths, gs.shiftThreshold, raster, eye,
+                                                primaryVertex(*scene, raster, eye), sampler);
             const auto own = baseEndingTerms(*scene, base);
             std::vector<EndingTerm> shifted;
-            (void)shiftBasePath(*scene, base, primaryVertex(*scene, raster), gs.shiftThreshold, shifted,
+            (void)shiftBasePath(*scene, base, primaryVertex(*scene, raster, eye), gs.shiftThreshold, shifted,
                                 EarlyOut::Never);
             REQUIRE(shifted.size() == own.size());
             for (size_t e = 0; e < own.size(); ++e) {
@@ -215,6 +216,7 @@ TEST_CASE("the early out leaves every pixel's share of a base path as it was, bi
     for (const char* name : {"door-ajar", "delta-room", "veach-mis"}) {
         CAPTURE(name);
         const auto scene = loadScene(std::string(name) == "delta-room" ? deltaRoom(dir) : test::shippedScene(name));
+        const Vec3 eye = scene->camera.position(); // a pinhole: its one lens point
         scene->camera = scene->camera.withResolution(64, 48);
         const GradientSettings gs = settingsFor(*scene);
         Pcg32 rng(11, 2);
@@ -223,11 +225,12 @@ TEST_CASE("the early out leaves every pixel's share of a base path as it was, bi
             const Vec2 corner(double(1 + rng.nextUInt() % 60), double(1 + rng.nextUInt() % 44)), offset(rng.nextDouble(), rng.nextDouble());
             std::vector<std::optional<BaseVertex>> primary;
             for (int j = 0; j < 9; ++j)
-                primary.push_back(primaryVertex(*scene, corner + Vec2(double(j % 3), double(j / 3)) + offset));
+                primary.push_back(primaryVertex(*scene, corner + Vec2(double(j % 3), double(j / 3)) + offset, eye));
             const size_t k = rng.nextUInt() % 9;
             IndependentSampler sampler(uint64_t(n), 4);
-            const BasePath base = traceBasePath(*scene, gs.paths, gs.shiftThreshold, corner + Vec2(double(k % 3), double(k / 3)) + offset,
-                                                primary[k], sampler);
+            const BasePath base =
+                traceBasePath(*scene, gs.paths, gs.shiftThreshold, corner + Vec2(double(k % 3), double(k / 3)) + offset,
+                              eye, primary[k], sampler);
             std::vector<std::vector<EndingTerm>> taken(9), followed(9);
             for (size_t m = 0; m < 9; ++m) {
                 if (m == k) {
@@ -370,18 +373,19 @@ TEST_CASE("the reconnection Jacobian is the solid-angle ratio of finite differen
 
 TEST_CASE("T-GR-1: reusing the paths of a two-pixel set is G-PT's pair estimator, bit for bit", "[gradient]") {
     const auto scene = loadScene(test::shippedScene("veach-mis"));
+    const Vec3 eye = scene->camera.position(); // a pinhole: its one lens point
     scene->camera = scene->camera.withResolution(40, 30);
     const GradientSettings gs = settingsFor(*scene);
     for (int n = 0; n < 50; ++n) {
         CAPTURE(n);
         const Vec2 offset(0.5 + 0.3 * std::sin(n), 0.5 + 0.3 * std::cos(n));
         const Vec2 p(5 + n % 30, 5 + n % 20);
-        std::vector<std::optional<BaseVertex>> primary = {primaryVertex(*scene, p + offset),
-                                                          primaryVertex(*scene, p + Vec2(1, 0) + offset)};
+        std::vector<std::optional<BaseVertex>> primary = {primaryVertex(*scene, p + offset, eye),
+                                                          primaryVertex(*scene, p + Vec2(1, 0) + offset, eye)};
         std::vector<BasePath> bases;
         for (size_t k = 0; k < 2; ++k) {
             IndependentSampler sampler(uint64_t(100 + n), k);
-            bases.push_back(traceBasePath(*scene, gs.paths, gs.shiftThreshold, p + Vec2(double(k), 0) + offset,
+            bases.push_back(traceBasePath(*scene, gs.paths, gs.shiftThreshold, p + Vec2(double(k), 0) + offset, eye,
                                           primary[k], sampler));
         }
         SampleHealth health;
@@ -622,6 +626,7 @@ TEST_CASE("T-GR-2: a path's weights are the same from every pixel that can produ
                                  : std::string(name) == "plastic-room" ? plasticRoom(dir)
                                                                        : test::shippedScene(name);
         const auto scene = loadScene(file);
+        const Vec3 eye = scene->camera.position(); // a pinhole: its one lens point
         scene->camera = scene->camera.withResolution(48, 48);
         GradientSettings gs = settingsFor(*scene);
         gs.paths.maxDepth = 4;
@@ -638,10 +643,10 @@ TEST_CASE("T-GR-2: a path's weights are the same from every pixel that can produ
             };
             std::vector<std::optional<BaseVertex>> primary;
             for (size_t j = 0; j < size * size; ++j)
-                primary.push_back(primaryVertex(*scene, pixel(j)));
+                primary.push_back(primaryVertex(*scene, pixel(j), eye));
             const size_t k = rng.nextUInt() % (size * size);
             IndependentSampler sampler(uint64_t(n), 9);
-            const BasePath x = traceBasePath(*scene, gs.paths, gs.shiftThreshold, pixel(k), primary[k], sampler);
+            const BasePath x = traceBasePath(*scene, gs.paths, gs.shiftThreshold, pixel(k), eye, primary[k], sampler);
             if (x.vertices.size() < 2 || !x.vertices[0].scattered) continue;
             // The weights of every technique j for every ending, seen from a base path in pixel `own`.
             auto weights = [&](const BasePath& base, size_t own) {

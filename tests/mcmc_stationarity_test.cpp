@@ -1,13 +1,15 @@
 // Stationarity of the path-space chains on a tiny path space: paths light -> glossy
-// patch -> camera, two planar patches and a pinhole. The fraction of its states a chain spends in each
-// cell of (glossy vertex) x (half of the light) must match the integral of f* over that cell divided by
-// b = the integral of f* over all paths. A wrong transition density or acceptance ratio of any mutation
-// in the mix shifts these fractions, whatever it does to the image.
+// patch -> camera, two planar patches and a pinhole (or a thin lens). The fraction of its states a chain spends in
+// each cell of (glossy vertex) x (half of the light, or of the lens) must match the integral of f* over that cell
+// divided by b = the integral of f* over all paths. A wrong transition density or acceptance ratio of any mutation in
+// the mix shifts these fractions, whatever it does to the image.
 #include <catch2/catch.hpp>
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <functional>
+#include <iterator>
 #include <memory>
 #include <numeric>
 #include <sstream>
@@ -71,10 +73,11 @@ constexpr int Resolution = 32;
 void checkFraming(const PerspectiveCamera& camera, const Vec3& eye, const Patch& seen, const Patch& unseen) {
     for (const double a : {-1.0, 1.0})
         for (const double b : {-1.0, 1.0}) {
-            const auto r = camera.rasterPosition(normalize(seen.at(a * seen.h, b * seen.h) - eye));
+            const auto r = camera.rasterPosition(camera.position(), normalize(seen.at(a * seen.h, b * seen.h) - eye));
             REQUIRE(r);
             CHECK(std::min({r->x, r->y, Resolution - r->x, Resolution - r->y}) > 3);
-            CHECK_FALSE(camera.rasterPosition(normalize(unseen.at(a * unseen.h, b * unseen.h) - eye)));
+            CHECK_FALSE(
+                camera.rasterPosition(camera.position(), normalize(unseen.at(a * unseen.h, b * unseen.h) - eye)));
         }
 }
 
@@ -178,8 +181,13 @@ std::vector<double> normalized(std::vector<double> bins) {
     return bins;
 }
 
-std::vector<double> tabulateTarget(const Bsdf& bsdf, const Spectrum& Le, const std::vector<Facet>& facets) {
-    constexpr int LightGrid = 24, Fine = Cells * 8;
+// Seen through a lens: `eyes` the points of the lens (equal areas), and with `eyeHalves` the bins take the lens
+// point's half of it in place of the light point's (W_e = 1 / (A_lens A cos^4) at every lens point: the same
+// cosE^-4 law, and constants drop out of the normalized bins).
+std::vector<double> tabulateTarget(const Bsdf& bsdf, const Spectrum& Le, const std::vector<Facet>& facets,
+                                   const std::vector<Vec3>& eyes = {Eye}, const Patch* eyeHalves = nullptr,
+                                   int LightGrid = 24) {
+    constexpr int Fine = Cells * 8;
     const Vec3 forward = normalize(-Eye); // the camera looks at the origin
     std::vector<double> bins(Bins, 0.0);
     std::vector<Vec3> lightPoints;
@@ -193,17 +201,20 @@ std::vector<double> tabulateTarget(const Bsdf& bsdf, const Spectrum& Le, const s
             for (int j = 0; j < Fine; ++j) {
                 const Vec3 x1 =
                     f.c + f.u * (f.hu * (2 * (i + 0.5) / Fine - 1)) + f.v * (f.hv * (2 * (j + 0.5) / Fine - 1));
-                Vec3 wo;
-                const double eyeFactor = area * pinholeFactor(x1, f.n, Eye, forward, wo);
-                const Vec3 woLocal(dot(wo, f.u), dot(wo, f.v), dot(wo, f.n));
-                for (const Vec3& x0 : lightPoints) {
-                    const Vec3 d = x1 - x0;
-                    const double d2 = dot(d, d);
-                    const Vec3 w = d / std::sqrt(d2);
-                    const double g = dot(w, Light.n) * -dot(w, f.n) / d2;
-                    const Vec3 wiLocal(-dot(w, f.u), -dot(w, f.v), -dot(w, f.n));
-                    const Spectrum fs = bsdf.eval(wiLocal, woLocal, Vec2(0.5, 0.5), Transport::Importance);
-                    bins[size_t(binOf(Light, Glossy, x0, x1))] += targetValue(Le * fs) * g * eyeFactor;
+                for (const Vec3& eye : eyes) {
+                    Vec3 wo;
+                    const double eyeFactor = area * pinholeFactor(x1, f.n, eye, forward, wo);
+                    const Vec3 woLocal(dot(wo, f.u), dot(wo, f.v), dot(wo, f.n));
+                    for (const Vec3& x0 : lightPoints) {
+                        const Vec3 d = x1 - x0;
+                        const double d2 = dot(d, d);
+                        const Vec3 w = d / std::sqrt(d2);
+                        const double g = dot(w, Light.n) * -dot(w, f.n) / d2;
+                        const Vec3 wiLocal(-dot(w, f.u), -dot(w, f.v), -dot(w, f.n));
+                        const Spectrum fs = bsdf.eval(wiLocal, woLocal, Vec2(0.5, 0.5), Transport::Importance);
+                        const int bin = eyeHalves ? binOf(*eyeHalves, Glossy, eye, x1) : binOf(Light, Glossy, x0, x1);
+                        bins[size_t(bin)] += targetValue(Le * fs) * g * eyeFactor;
+                    }
                 }
             }
     }
@@ -220,7 +231,8 @@ MutationStatistics checkVisits(const Scene& scene, const std::vector<double>& ex
                                const std::vector<std::string>& mixes, int edges, const Patch& light,
                                const Patch& receiverPatch, size_t receiver, int receiverShape, size_t halfVertex = 0,
                                const std::vector<std::string>& mustMove = {}, int receiverShapes = 1,
-                               uint64_t perChain = 24576, bool halfByDirection = false, const PathTarget& target = {}) {
+                               uint64_t perChain = 24576, bool halfByDirection = false, const PathTarget& target = {},
+                               bool everyChainCrossesHalves = false) {
     MutationStatistics last;
     // The manifold perturbation with lambda 5 instead of 50: steps ten times as large, so that each of its
     // stages moves the chains across bins often enough for a wrong factor in it to show.
@@ -363,6 +375,21 @@ MutationStatistics checkVisits(const Scene& scene, const std::vector<double>& ex
         const int usedBins = int(std::count_if(expected.begin(), expected.end(), [](double q) { return q > 0; }));
         CHECK(chi2 < usedBins + 6 * std::sqrt(2.0 * usedBins));
         CHECK(used > 0);
+        // A chain that never moves its half-vertex between the halves (a lens point no mutation re-samples)
+        // leaves the mean over chains right and every single chain wrong: each chain must spend in each half
+        // close to its probability (0.25 either way: a stuck chain spends 0 or 1).
+        if (everyChainCrossesHalves) {
+            double p0 = 0;
+            for (int b = 0; b < Cells * Cells; ++b)
+                p0 += expected[size_t(b)];
+            for (size_t c = 0; c < size_t(chains); ++c) {
+                double f0 = 0;
+                for (int b = 0; b < Cells * Cells; ++b)
+                    f0 += counts[c][size_t(b)] / double(states[c]);
+                INFO(spec << ": chain " << c << " in half 0 " << f0 << " of its states, expected " << p0);
+                CHECK(std::abs(f0 - p0) < 0.25);
+            }
+        }
         // Every mutation of the mix (or those named) moved the chains often (not just proposed).
         for (size_t m = 0; m < mix.size(); ++m) {
             const std::string& name = stats.strategies.strategies()[m];
@@ -377,6 +404,43 @@ MutationStatistics checkVisits(const Scene& scene, const std::vector<double>& ex
 }
 
 } // namespace
+
+TEST_CASE("path-space chains through a thin lens visit its aperture in proportion to f*", "[mcmc][thinlens]") {
+    // The tiny scene seen through a thin lens of radius 0.3 focused at 2 (the patch lies 2.1 away): the
+    // camera vertex is a point of the aperture, which only the bidirectional mutation (deleting the camera
+    // vertex) and the lens perturbation (its lens-point kernel) move. Bins: the lens half (across the view,
+    // horizontally: the highlight moves with the lens point) x the glossy vertex's cell.
+    test::TempDir dir;
+    std::string xml = tinyScene(dir);
+    {
+        std::ifstream in(xml);
+        std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+        const std::string pinhole = R"(<sensor type="perspective">)";
+        text.replace(
+            text.find(pinhole), pinhole.size(),
+            R"(<sensor type="thinlens"><float name="apertureRadius" value="0.3"/><float name="focusDistance" value="2"/>)");
+        xml = dir.write("tiny-lens.xml", text);
+    }
+    const auto scene = loadScene(xml);
+    const PerspectiveCamera& camera = scene->camera;
+    REQUIRE(camera.hasAperture());
+    const Vec3 forward = normalize(-Eye);
+    const Patch Lens{Eye, normalize(cross(forward, Vec3(0, 1, 0))), {0, 1, 0}, forward, 0.3};
+    // The patch stays inside the image from every lens point (0.5 degrees of parallax at most).
+    checkFraming(camera, Eye, Glossy, Light);
+    const Bsdf& bsdf = *scene->bsdfs[size_t(scene->shapes[0].bsdf)].bsdf;
+    // f* at the points of an equal-area polar grid on the aperture.
+    constexpr int Rings = 4, Sectors = 12;
+    std::vector<Vec3> lensPoints;
+    for (int a = 0; a < Rings; ++a)
+        for (int b = 0; b < Sectors; ++b) {
+            const double r = Lens.h * std::sqrt((a + 0.5) / Rings), phi = TwoPi * (b + 0.5) / Sectors;
+            lensPoints.push_back(Lens.at(r * std::cos(phi), r * std::sin(phi)));
+        }
+    const std::vector<double> expected = tabulateTarget(bsdf, Spectrum(1.0), {Glossy.facet()}, lensPoints, &Lens, 12);
+    checkVisits(*scene, expected, {"bidirectional", "bidirectional,lens", "bidirectional,manifold"}, 2, Lens, Glossy, 1,
+                0, 2, {"bidirectional", "lens"}, 1, 24576, false, {}, true);
+}
 
 TEST_CASE("path-space chains visit a tiny path space in proportion to f*", "[mcmc]") {
     test::TempDir dir;
@@ -718,11 +782,13 @@ TEST_CASE("path-space chains through a mirror visit a tiny path space in proport
         for (const double a : {-1.0, 1.0})
             for (const double b : {-1.0, 1.0}) {
                 const Vec3 p = mc.receiver.at(a * mc.receiver.h, b * mc.receiver.h);
-                const auto seen = camera.rasterPosition(normalize((mc.caustic ? p : mirrored(p)) - mc.eye));
+                const auto seen =
+                    camera.rasterPosition(camera.position(), normalize((mc.caustic ? p : mirrored(p)) - mc.eye));
                 REQUIRE(seen);
                 CHECK(std::min({seen->x, seen->y, Resolution - seen->x, Resolution - seen->y}) > 3);
-                if (!mc.caustic) CHECK_FALSE(camera.rasterPosition(normalize(p - mc.eye)));
-                CHECK_FALSE(camera.rasterPosition(normalize(mc.light.at(a * mc.light.h, b * mc.light.h) - mc.eye)));
+                if (!mc.caustic) CHECK_FALSE(camera.rasterPosition(camera.position(), normalize(p - mc.eye)));
+                CHECK_FALSE(camera.rasterPosition(camera.position(),
+                                                  normalize(mc.light.at(a * mc.light.h, b * mc.light.h) - mc.eye)));
             }
         const std::vector<double> expected = tabulateMirror(mc);
         const auto [lo, hi] = std::minmax_element(expected.begin(), expected.end());
@@ -857,7 +923,7 @@ TEST_CASE("path-space chains of a sun caustic through a mirror sphere visit a ti
            << R"("/><bsdf type="conductor"><string name="material" value="none"/></bsdf></shape>)";
     const auto scene = loadScene(mirrorScene(dir, mc, sunEmitter(SunUp), sphere.str()));
     // The camera sees the patch and not the sphere.
-    CHECK_FALSE(scene->camera.rasterPosition(normalize(SphereCentre - mc.eye)));
+    CHECK_FALSE(scene->camera.rasterPosition(scene->camera.position(), normalize(SphereCentre - mc.eye)));
     const std::vector<double> expected = tabulateSunSphere(mc);
     const auto [lo, hi] = std::minmax_element(expected.begin(), expected.end());
     INFO("bin probabilities from " << *lo << " to " << *hi);

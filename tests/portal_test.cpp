@@ -352,7 +352,8 @@ TEST_CASE("T-PO-1: on the paper's three planes the chains with the portal pertur
         for (int px = 0; px < w; ++px)
             for (int i = 0; i < 4; ++i)
                 for (int j = 0; j < 4; ++j) {
-                    const Ray r = scene->camera.generateRay(Vec2(px + (i + 0.5) / 4, py + (j + 0.5) / 4));
+                    const Ray r = scene->camera.generateRay(Vec2(px + (i + 0.5) / 4, py + (j + 0.5) / 4),
+                                                            scene->camera.position());
                     const double t = (2 - r.o.y) / r.d.y;
                     expected[size_t((py / bs) * (w / bs) + px / bs)] +=
                         reflectorRadiance(r.o.x + t * r.d.x, r.o.z + t * r.d.z) / (16 * bs * bs);

@@ -191,7 +191,8 @@ TEST_CASE("a diffuse plane under a point light: L = rho/pi I cos / d^2", "[rende
             double sum = 0;
             for (int j = 0; j < 16; ++j)
                 for (int i = 0; i < 16; ++i) {
-                    const Ray r = scene->camera.generateRay({x + (i + 0.5) / 16, y + (j + 0.5) / 16});
+                    const Ray r =
+                        scene->camera.generateRay({x + (i + 0.5) / 16, y + (j + 0.5) / 16}, scene->camera.position());
                     const Vec3 p = r.o + r.d * (-r.o.y / r.d.y);
                     const Vec3 toLight = light - p;
                     const double d2 = lengthSquared(toLight);
@@ -248,6 +249,83 @@ TEST_CASE("a diffuse plane in sunlight: L = rho/pi E cos, for the sun disk in a 
             const PixelStats s = stats(img, 16, 0, 0, 16, 16);
             INFO("mean " << s.mean << " +- " << s.stderr_ << ", expected " << expected);
             CHECK(std::abs(s.mean - expected) <= 5 * s.stderr_ + texelBias + 1e-6 * expected);
+        }
+    }
+}
+
+TEST_CASE("a thin lens blurs an edge out of focus by its circle of confusion and keeps it sharp in focus",
+          "[render][thinlens]") {
+    test::TempDir dir;
+    // Two diffuse half-planes at distance 4 across the view axis, albedo 0.8 (x < 0) and 0.2 (x > 0), under
+    // a uniform sky of radiance 1: each sends its albedo. A lens of radius 0.2 focused at distance 2 spreads
+    // a point of the focus plane over a disk of radius 0.2 (4 - 2) / 2 = 0.2 on the half-planes, 3 pixels.
+    const double D = 4, R = 0.2;
+    auto scene = [&](double focus) {
+        return loadScene(dir.write("lens.xml", R"(<scene version="0.6.0">
+  <sensor type="thinlens"><float name="fov" value="30"/><float name="apertureRadius" value=")" +
+                                                   std::to_string(R) + R"("/><float name="focusDistance" value=")" +
+                                                   std::to_string(focus) +
+                                                   R"("/>
+    <transform name="toWorld"><lookat origin="0,0,0" target="0,0,1" up="0,1,0"/></transform>
+    <film type="hdrfilm"><integer name="width" value="32"/><integer name="height" value="8"/><rfilter type="box"/></film>
+  </sensor>
+  <emitter type="constant"><rgb name="radiance" value="1"/></emitter>
+  <shape type="rectangle"><transform name="toWorld"><scale value="10"/><rotate y="1" angle="180"/><translate x="-10" z="4"/></transform>
+    <bsdf type="diffuse"><rgb name="reflectance" value="0.8"/></bsdf></shape>
+  <shape type="rectangle"><transform name="toWorld"><scale value="10"/><rotate y="1" angle="180"/><translate x="10" z="4"/></transform>
+    <bsdf type="diffuse"><rgb name="reflectance" value="0.2"/></bsdf></shape>
+</scene>)"));
+    };
+    for (const double focus : {2.0, D}) {
+        CAPTURE(focus);
+        const auto s = scene(focus);
+        REQUIRE(s->camera.hasAperture());
+        // Expected columns, independently of the thin-lens code: the pinhole ray of a raster position meets
+        // the focus plane at p; the ray from a lens point l through p reaches the half-planes at x(l).
+        // Averaged over the pixel (8 x 8 raster points) and the lens (a polar grid of equal areas).
+        const PerspectiveCamera pinhole = PerspectiveCamera(Transform(), 30, FovAxis::X, s->camera.film(), 0.01);
+        std::vector<double> column(32);
+        for (int x = 0; x < 32; ++x) {
+            double sum = 0;
+            int count = 0;
+            for (int i = 0; i < 8; ++i)
+                for (int j = 0; j < 8; ++j) {
+                    const Ray r = pinhole.generateRay({x + (i + 0.5) / 8, 4 + (j + 0.5) / 8}, pinhole.position());
+                    const Vec3 p = r.d * (focus / r.d.z);
+                    for (int a = 0; a < 16; ++a)
+                        for (int b = 0; b < 32; ++b) {
+                            const double rho = R * std::sqrt((a + 0.5) / 16), phi = TwoPi * (b + 0.5) / 32;
+                            const Vec3 l(rho * std::cos(phi), rho * std::sin(phi), 0);
+                            const Vec3 hit = l + (p - l) * (D / focus);
+                            sum += hit.x < 0 ? 0.8 : 0.2;
+                            ++count;
+                        }
+                }
+            column[size_t(x)] = sum / count;
+        }
+        // The edge is sharp in focus (one pixel between 0.8 and 0.2) and spread over about 6 pixels out of it.
+        int between = 0;
+        for (double c : column)
+            between += c > 0.21 && c < 0.79;
+        CHECK(between == (focus == D ? 0 : 6));
+        for (PixelMethod m : {PixelMethod::Bdpt, PixelMethod::PathTracing}) {
+            CAPTURE(int(m));
+            PathSettings b;
+            b.maxDepth = 2;
+            const auto img = renderImage(*s, m, 64, b);
+            // Residuals of independent pixels, by bands of columns: left of the blur, its two halves, right of it.
+            for (const auto& [x0, x1] : {std::pair{0, 10}, std::pair{10, 16}, std::pair{16, 22}, std::pair{22, 32}}) {
+                std::vector<float> residual(img.size());
+                for (int y = 0; y < 8; ++y)
+                    for (int x = 0; x < 32; ++x)
+                        for (int c = 0; c < 3; ++c) {
+                            const size_t i = 3 * (size_t(y) * 32 + size_t(x)) + size_t(c);
+                            residual[i] = float(img[i] - column[size_t(x)]);
+                        }
+                const PixelStats r = stats(residual, 32, x0, 0, x1, 8);
+                INFO("columns " << x0 << "-" << x1 << ": residual " << r.mean << " +- " << r.stderr_);
+                CHECK(std::abs(r.mean) < 5 * r.stderr_ + 1e-6);
+            }
         }
     }
 }

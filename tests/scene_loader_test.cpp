@@ -392,6 +392,37 @@ TEST_CASE("the sensor: film, crop, filters, sampler and integrator defaults", "[
     CHECK(std::find(s->ignoredHints.begin(), s->ignoredHints.end(), "integrator bdpt: lightImage") != s->ignoredHints.end());
 }
 
+TEST_CASE("the thinlens sensor: aperture radius, focus distance (farClip by default), 0 a pinhole",
+          "[loader][thinlens]") {
+    test::TempDir dir;
+    auto sensor = [&](const std::string& props) {
+        return sceneFile(dir, "<sensor type=\"thinlens\">\n<float name=\"fov\" value=\"40\"/>" + props + "</sensor>");
+    };
+    const auto a =
+        loadScene(sensor(R"(<float name="apertureRadius" value="0.05"/><float name="focusDistance" value="3"/>)"), {},
+                  UnknownProperties::Fail);
+    CHECK(a->camera.hasAperture());
+    CHECK(a->camera.lens().apertureRadius == 0.05);
+    CHECK(a->camera.lens().focusDistance == 3);
+    const auto b = loadScene(sensor(R"(<float name="apertureRadius" value="0.05"/><float name="farClip" value="70"/>)"),
+                             {}, UnknownProperties::Fail);
+    CHECK(b->camera.lens().focusDistance == 70);
+    const auto c = loadScene(sensor(R"(<float name="apertureRadius" value="0.05"/>)"));
+    CHECK(c->camera.lens().focusDistance == 1e4);
+    const auto pinhole = loadScene(sensor(R"(<float name="apertureRadius" value="0"/>)"));
+    CHECK_FALSE(pinhole->camera.hasAperture());
+    const std::string f = dir.file("scene.xml");
+    sensor("");
+    CHECK_THAT(errorOf(f), Equals(f + ":2: <sensor type=\"thinlens\">: a thinlens sensor needs apertureRadius"));
+    sensor(R"(<float name="apertureRadius" value="0.1"/><float name="focusDistance" value="-2"/>)");
+    CHECK_THAT(errorOf(f), Equals(f + ":2: <sensor type=\"thinlens\">: focusDistance must be finite and > 0"));
+    // A perspective sensor does not read them (Mitsuba 0.6 warns the same way).
+    const auto p =
+        loadScene(sceneFile(dir, R"(<sensor type="perspective"><float name="focusDistance" value="3"/></sensor>)"));
+    REQUIRE(p->warnings.size() == 1);
+    CHECK_THAT(p->warnings[0], Contains("focusDistance"));
+}
+
 TEST_CASE("bad input: one clear error line naming file, line and element", "[loader]") {
     test::TempDir dir;
     const std::string f = dir.file("scene.xml");

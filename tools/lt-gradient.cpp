@@ -32,6 +32,9 @@ struct StreamOptions {
 int fromChainStream(const CLI::App&, int argc, char** argv, const StreamOptions& o) {
     const auto start = std::chrono::steady_clock::now();
     auto scene = lt::tool::loadSceneWithOptions("lt-gradient", o.scenePath, o.defines, o.resolution, o.strict, o.quiet);
+    if (scene->camera.hasAperture())
+        throw lt::Error(o.scenePath + ": the chain-state stream holds no lens points, and this scene's thinlens camera "
+                                      "needs them (the gradient stage works with pinhole cameras)");
     lt::file::Reader stream(o.stream, lt::file::FileKind::Paths);
     lt::file::checkSceneHash(stream.info(), scene->contentHash, stream.name(), o.scenePath);
     const auto& made = stream.info().value("parameters", nlohmann::json::object());

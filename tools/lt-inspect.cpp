@@ -68,8 +68,11 @@ nlohmann::json toJson(const lt::Scene& scene, const lt::SceneFeatures& f) {
     j["bounds"] = {{"min", {scene.bounds.lo.x, scene.bounds.lo.y, scene.bounds.lo.z}},
                    {"max", {scene.bounds.hi.x, scene.bounds.hi.y, scene.bounds.hi.z}},
                    {"diagonal", scene.bounds.diagonal()}};
-    j["camera"] = {{"type", "perspective"},
+    j["camera"] = {{"type", scene.camera.hasAperture() ? "thinlens" : "perspective"},
                    {"fov_x_degrees", scene.camera.fovX()},
+                   {"aperture_radius", scene.camera.lens().apertureRadius},
+                   {"focus_distance", scene.camera.hasAperture() ? nlohmann::json(scene.camera.lens().focusDistance)
+                                                                 : nlohmann::json(nullptr)},
                    {"position", {scene.camera.position().x, scene.camera.position().y, scene.camera.position().z}},
                    {"forward", {scene.camera.forward().x, scene.camera.forward().y, scene.camera.forward().z}}};
     j["film"] = {{"type", film.type},
@@ -110,8 +113,12 @@ void printText(const lt::Scene& scene, const lt::SceneFeatures& f) {
     row("bounds", fmt3(scene.bounds.lo) + " to " + fmt3(scene.bounds.hi) + ", diagonal " +
                       std::to_string(scene.bounds.diagonal()));
     std::ostringstream cam;
-    cam << "perspective, fov " << std::setprecision(4) << scene.camera.fovX() << " deg (horizontal), at "
-        << fmt3(scene.camera.position()) << " looking " << fmt3(scene.camera.forward());
+    cam << (scene.camera.hasAperture() ? "thinlens" : "perspective") << ", fov " << std::setprecision(4)
+        << scene.camera.fovX() << " deg (horizontal), at " << fmt3(scene.camera.position()) << " looking "
+        << fmt3(scene.camera.forward());
+    if (scene.camera.hasAperture())
+        cam << ", aperture radius " << scene.camera.lens().apertureRadius << " focused at "
+            << scene.camera.lens().focusDistance;
     row("camera", cam.str());
     std::ostringstream fl;
     fl << film.width << " x " << film.height;

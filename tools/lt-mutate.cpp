@@ -186,6 +186,9 @@ int main(int argc, char** argv) {
             throw lt::Error("give --snapshots or --snapshot-mutations, not both");
         if (startupSamples == 0) startupSamples = space == "multiplexed" ? 20000 : 100000;
         auto scene = lt::tool::loadSceneWithOptions("lt-mutate", scenePath, defines, resolution, strict, quiet);
+        if (!streamPath.empty() && scene->camera.hasAperture())
+            throw lt::Error(scenePath + ": --stream writes no lens points yet, and this scene's thinlens camera needs "
+                                        "them (the gradient stage works with pinhole cameras)");
 
         // Seeds are path-space states: path-space chains start from them; the primary spaces start from
         // their own start-up samples, whose b integrates the same target in their own measure.

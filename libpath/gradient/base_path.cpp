@@ -40,20 +40,20 @@ BaseVertex vertexAt(const Scene& scene, SurfaceInteraction&& si, const Vec3& wi)
 
 } // namespace
 
-std::optional<BaseVertex> primaryVertex(const Scene& scene, const Vec2& raster) {
-    const Ray ray = scene.camera.generateRay(raster);
+std::optional<BaseVertex> primaryVertex(const Scene& scene, const Vec2& raster, const Vec3& lens) {
+    const Ray ray = scene.camera.generateRay(raster, lens);
     auto hit = scene.intersect(ray);
     if (!hit) return std::nullopt;
     return vertexAt(scene, std::move(*hit), -ray.d);
 }
 
 BasePath traceBasePath(const Scene& scene, const PathSettings& settings, double shiftThreshold, const Vec2& raster,
-                       std::optional<BaseVertex> primary, SampleGenerator& sampler) {
+                       const Vec3& lens, std::optional<BaseVertex> primary, SampleGenerator& sampler) {
     BasePath path;
     path.raster = raster;
     path.rrDepth = settings.rrDepth;
     if (!primary) {
-        const Vec3 d = scene.camera.generateRay(raster).d;
+        const Vec3 d = scene.camera.generateRay(raster, lens).d;
         for (int e : scene.environmentEmitters)
             path.direct += scene.emitters[size_t(e)]->evalEnvironment(d);
         return path;

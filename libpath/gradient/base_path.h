@@ -92,13 +92,16 @@ struct BasePath {
     std::vector<BaseVertex> vertices; // x_1 (the primary hit) ... ; empty when the camera ray escapes
 };
 
-// The primary hit of a raster position: its vertex (wi, BSDF, emitter set), or nothing when the ray escapes.
-// Base paths start here, and the shift to another pixel starts at that pixel's primary hit.
-[[nodiscard]] std::optional<BaseVertex> primaryVertex(const Scene& scene, const Vec2& raster);
+// The primary hit of a raster position seen from a lens point (camera.h): its vertex (wi, BSDF, emitter
+// set), or nothing when the ray escapes. Base paths start here, and the shift to another pixel starts at
+// that pixel's primary hit from the same lens point (the offset path keeps the base's lens sample: the
+// shift of the camera vertex is the identity, Jacobian 1).
+[[nodiscard]] std::optional<BaseVertex> primaryVertex(const Scene& scene, const Vec2& raster, const Vec3& lens);
 
-// Traces a base path from a primary vertex (nothing: the camera ray escaped) for raster position `raster`,
-// with the random numbers of `sampler` in the path tracer's streams.
+// Traces a base path from a primary vertex (nothing: the camera ray escaped) for raster position `raster`
+// and lens point `lens`, with the random numbers of `sampler` in the path tracer's streams.
 [[nodiscard]] BasePath traceBasePath(const Scene& scene, const PathSettings& settings, double shiftThreshold,
-                                     const Vec2& raster, std::optional<BaseVertex> primary, SampleGenerator& sampler);
+                                     const Vec2& raster, const Vec3& lens, std::optional<BaseVertex> primary,
+                                     SampleGenerator& sampler);
 
 } // namespace lt

@@ -18,8 +18,10 @@ GradientPathTracer::GradientPathTracer(const Scene& scene, GradientSettings sett
 }
 
 Spectrum GradientPathTracer::estimate(const Vec2& raster, SampleGenerator& sampler, PixelSample& out) const {
-    const BasePath base = traceBasePath(scene_, settings_.paths, settings_.shiftThreshold, raster,
-                                        primaryVertex(scene_, raster), sampler);
+    const PerspectiveCamera& camera = scene_.camera;
+    const Vec3 lens = camera.hasAperture() ? camera.sampleLens(sampler.next2D()) : camera.position();
+    const BasePath base = traceBasePath(scene_, settings_.paths, settings_.shiftThreshold, raster, lens,
+                                        primaryVertex(scene_, raster, lens), sampler);
     ++stats_.basePaths;
     const std::vector<EndingTerm> own = baseEndingTerms(scene_, base);
     std::vector<EndingTerm> shifted;
@@ -37,7 +39,7 @@ Spectrum GradientPathTracer::estimate(const Vec2& raster, SampleGenerator& sampl
             primal += share[0];
             continue;
         }
-        stats_.add(shiftBasePath(scene_, base, primaryVertex(scene_, raster + Vec2(o[0], o[1])),
+        stats_.add(shiftBasePath(scene_, base, primaryVertex(scene_, raster + Vec2(o[0], o[1]), lens),
                                  settings_.shiftThreshold, shifted));
         if (!shareOverPixels({&own, &shifted}, share)) {
             ++out.health.nonFinite;

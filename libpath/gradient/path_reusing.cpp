@@ -72,18 +72,22 @@ void PathReusing::estimateTile(const TileSample& tile) const {
     // One sub-pixel sample for the whole tile.
     IndependentSampler tileSampler = pixelSampler(tile.seed ^ 0x5bd1e9955bd1e995ULL, tile.pass, tileKey);
     const Vec2 offset = Vec2(0.5, 0.5) + filter_.sample(tileSampler.next2D());
+    // And one lens point (a thin lens's; the pinhole otherwise): every shift keeps its base's.
+    const PerspectiveCamera& camera = scene_.camera;
+    const Vec3 lens = camera.hasAperture() ? camera.sampleLens(tileSampler.next2D()) : camera.position();
 
     std::vector<std::optional<BaseVertex>> primary(pixels);
     for (size_t m = 0; m < pixels; ++m)
-        primary[m] = primaryVertex(scene_, Vec2(ext.x0 + int(m % size_t(w)), ext.y0 + int(m / size_t(w))) + offset);
+        primary[m] =
+            primaryVertex(scene_, Vec2(ext.x0 + int(m % size_t(w)), ext.y0 + int(m / size_t(w))) + offset, lens);
     std::vector<BasePath> bases(pixels);
     std::vector<double> survival(pixels, 0.0); // 0: the base path did not survive Russian roulette
     for (size_t k = 0; k < pixels; ++k) {
         const int x = ext.x0 + int(k % size_t(w)), y = ext.y0 + int(k / size_t(w));
         // A pixel of the extra column or row is also its own tile's: a stream of this tile's, not the same path.
         IndependentSampler sampler = pixelSampler(tile.seed ^ tileKey, tile.pass, pixelIndex(x, y));
-        bases[k] =
-            traceBasePath(scene_, settings_.paths, settings_.shiftThreshold, Vec2(x, y) + offset, primary[k], sampler);
+        bases[k] = traceBasePath(scene_, settings_.paths, settings_.shiftThreshold, Vec2(x, y) + offset, lens,
+                                 primary[k], sampler);
         // Russian roulette on the base path by its own estimate: a black base path still lives with q_min,
         // because its shifts may carry light ([GDPR] Sec. 3.3).
         double estimate = 0;

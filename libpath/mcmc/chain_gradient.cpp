@@ -109,7 +109,8 @@ ChainShifts shiftChainState(const Scene& scene, const SensorWindow& sensor, cons
     for (size_t k = 0; k < 4; ++k) {
         if (!out.onFilm[k]) continue;
         const Vec2 r = raster + Vec2(kNeighbourOffsets[k][0], kNeighbourOffsets[k][1]);
-        const ShiftOutcome o = shiftBasePath(scene, *base, primaryVertex(scene, r), shiftThreshold, shifted);
+        const ShiftOutcome o =
+            shiftBasePath(scene, *base, primaryVertex(scene, r, v.back().si.p), shiftThreshold, shifted);
         if (stats) stats->add(o);
         out.F[k] = shifted[ending].value * scale;
     }

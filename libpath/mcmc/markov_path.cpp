@@ -37,17 +37,17 @@ std::optional<RejectCause> evaluatePath(const Scene& scene, MarkovPath& path, co
     const size_t k = v.size() - 1;
     if (v.size() < 2 || v[0].type != VertexType::Light || v[k].type != VertexType::Camera)
         return RejectCause::ZeroContribution;
-    // The image position and the sensor's importance, with the cosine at the pinhole: W_e cos / d^2 is
+    // The image position and the sensor's importance, with the cosine at the lens point: W_e cos / d^2 is
     // the camera's share of the last edge (bdpt.cpp, t = 1), the rest of G is the cosine at v[k-1].
     const PerspectiveCamera& cam = scene.camera;
+    const Vec3& lens = v[k].si.p;
     const Vec3 dir = v[k].directionTo(v[k - 1]); // the sky seen directly: against its travel
-    const auto raster = cam.rasterPosition(dir);
+    const auto raster = cam.rasterPosition(lens, dir);
     if (!raster) return RejectCause::LeftImage;
     path.raster = *raster;
     const double cosCam = dot(dir, cam.forward());
     if (!(cosCam > 0)) return RejectCause::LeftImage;
-    if (!v[k - 1].infinite && length(v[k - 1].si.p - cam.position()) * cosCam < cam.nearClip())
-        return RejectCause::LeftImage;
+    if (!v[k - 1].infinite && length(v[k - 1].si.p - lens) * cosCam < cam.nearClip()) return RejectCause::LeftImage;
 
     // A point or spot light seen by the pinhole directly or through specular vertices only: every vertex
     // is fixed by the others, a path space of measure zero that no pixel integral sees.
@@ -71,7 +71,7 @@ std::optional<RejectCause> evaluatePath(const Scene& scene, MarkovPath& path, co
         }
         if (f.isBlack()) return RejectCause::ZeroContribution;
     }
-    f *= geometryTerm(v[k - 1], v[k]) * cam.importance(dir) * cosCam;
+    f *= geometryTerm(v[k - 1], v[k]) * cam.importance(lens, dir) * cosCam;
     // The pixel measurement integrates h_j (crop pixels) x f over paths (film.h): image units.
     f *= double(cam.film().cropWidth) * double(cam.film().cropHeight);
     if (f.isBlack()) return RejectCause::ZeroContribution;
@@ -134,6 +134,8 @@ void toChainState(const MarkovPath& path, uint32_t chain, double credit, file::C
 }
 
 double densityFromLight(const Scene& scene, const std::vector<PathVertex>& v, size_t i) {
+    // No light subpath reaches a lens (BDPT's t = 0 strategy, which lt does not use).
+    if (v[i].type == VertexType::Camera) return 0;
     // A directional light's direction is a delta: choosing the emitter is all there is to it.
     if (i == 0 && v[0].infinite && v[0].isDeltaLight()) return scene.emitterSelection.pmf(size_t(v[0].emitterIndex));
     if (i == 0) return v[0].pdfLightOrigin(scene, v[1]);
@@ -148,6 +150,8 @@ double densityFromLight(const Scene& scene, const std::vector<PathVertex>& v, si
 
 double densityFromEye(const Scene& scene, const SensorWindow& sensor, const std::vector<PathVertex>& v, size_t i) {
     const size_t k = v.size() - 1;
+    // The camera vertex itself: a thin lens's point, uniform on the aperture (a pinhole's never moves).
+    if (i == k) return 1 / scene.camera.lensArea();
     const PathVertex& from = v[i + 1];
     if (i + 1 == k) return from.pdf(scene, nullptr, v[i]) * sensor.cropToSensorDensity();
     if (isSpecular(from)) {

@@ -83,7 +83,8 @@ void moveVertex(const Scene& scene, const ManifoldVertex& m, PathVertex& v);
 // infinity; BDPT's pdf_fwd / pdf_rev): from the light side (i = 0: choosing the light point or the sky's
 // direction, a directional light's choice alone; i = 1: emission from v[0]; otherwise scattering at
 // v[i-1] given v[i-2]) and from the eye side (scattering at v[i+1] given v[i+2]; i = k - 1: the camera
-// ray, uniform over the sensor window). Zero where the vertex cannot be sampled that way.
+// ray, uniform over the sensor window; i = k: a thin lens's point, uniform on the aperture). Zero where the
+// vertex cannot be sampled that way (the camera vertex from the light side).
 [[nodiscard]] double densityFromLight(const Scene& scene, const std::vector<PathVertex>& v, size_t i);
 [[nodiscard]] double densityFromEye(const Scene& scene, const SensorWindow& sensor, const std::vector<PathVertex>& v,
                                     size_t i);

@@ -18,8 +18,11 @@ file::VertexRecord toVertexRecord(const Scene& scene, const PathVertex& v) {
         break;
     }
     r.lobe = v.lobe;
-    // Degenerate position: the pinhole and point-like lights; degenerate direction: directional light.
-    if (v.type == VertexType::Camera || (v.type == VertexType::Light && !v.infinite && !v.isOnSurface())) r.flags |= 1;
+    // Degenerate position: the pinhole (not a thin lens) and point-like lights; degenerate direction:
+    // directional light.
+    if ((v.type == VertexType::Camera && !scene.camera.hasAperture()) ||
+        (v.type == VertexType::Light && !v.infinite && !v.isOnSurface()))
+        r.flags |= 1;
     if (v.emitter && (v.emitter->flags() & EmitterDeltaDirection)) r.flags |= 2;
     r.shape = v.si.shape;
     r.prim = v.si.prim;
@@ -103,6 +106,11 @@ std::vector<PathVertex> verticesFromRecord(const Scene& scene, const file::PathR
             if (r.kind != file::VertexKind::Camera) throw fail("does not end on the camera");
             x.type = VertexType::Camera;
             x.si.p = scene.camera.position();
+            // A thin lens's vertex is where on the aperture the path passed.
+            if (scene.camera.hasAperture()) {
+                if (!scene.camera.onLens(p)) throw fail("its camera vertex is not on the scene's lens");
+                x.si.p = p;
+            }
         } else {
             if (r.shape < 0 || size_t(r.shape) >= scene.shapes.size()) throw fail("names a shape the scene lacks");
             const Shape& shape = scene.shapes[size_t(r.shape)];

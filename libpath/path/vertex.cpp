@@ -44,7 +44,7 @@ double PathVertex::pdf(const Scene& scene, const PathVertex* prev, const PathVer
     double pdfDir = 0;
     if (type == VertexType::Camera) {
         double pdfPos = 0;
-        scene.camera.pdfEmission(wn, pdfPos, pdfDir);
+        scene.camera.pdfEmission(si.p, wn, pdfPos, pdfDir);
     } else {
         if (!bsdf || !prev) return 0;
         pdfDir = worldBsdf().pdf(directionTo(*prev), wn);

@@ -127,7 +127,10 @@ void Bdpt::cameraSubpath(const Vec2& raster, SampleGenerator& sampler, std::vect
     const size_t limit = maxVertices > 0 ? std::min(maxVertices, maxCameraVertices_) : maxCameraVertices_;
     path.clear();
     sampler.startStream(SampleGenerator::CameraStream);
-    const Ray ray = scene_.camera.generateRay(raster);
+    const PerspectiveCamera& camera = scene_.camera;
+    // A lens point (two dimensions only for a thin lens: a pinhole's samples stay as they were).
+    const Vec3 lens = camera.hasAperture() ? camera.sampleLens(sampler.next2D()) : camera.position();
+    const Ray ray = camera.generateRay(raster, lens);
     PathVertex cam;
     cam.type = VertexType::Camera;
     cam.si.p = ray.o;
@@ -136,7 +139,7 @@ void Bdpt::cameraSubpath(const Vec2& raster, SampleGenerator& sampler, std::vect
     cam.beta = Spectrum(1.0);
     path.push_back(cam);
     double pdfPos = 0, pdfDir = 0;
-    scene_.camera.pdfEmission(ray.d, pdfPos, pdfDir);
+    camera.pdfEmission(lens, ray.d, pdfPos, pdfDir);
     randomWalk(ray, Spectrum(1.0), pdfDir, sampler, Transport::Radiance, limit - 1, path);
 }
 
@@ -177,26 +180,32 @@ Spectrum Bdpt::connect(std::vector<PathVertex>& light, std::vector<PathVertex>& 
         const PathVertex& pt = camera[size_t(t) - 1];
         if (pt.isLight()) L = pt.Le(scene_, camera[size_t(t) - 2]) * pt.beta;
     } else if (t == 1) {
-        // Light tracing: join the light subpath to the pinhole and splat at the raster position it sees.
+        // Light tracing: join the light subpath to a point of the lens (the pinhole, or a point uniform on
+        // the aperture) and splat at the raster position it sees.
         const PathVertex& qs = light[size_t(s) - 1];
         if (!qs.isConnectible()) return {};
         const PerspectiveCamera& cam = scene_.camera;
-        const Vec3 d = qs.si.p - cam.position();
+        Vec3 lens = cam.position();
+        if (cam.hasAperture()) {
+            sampler.startStream(SampleGenerator::ConnectStream);
+            lens = cam.sampleLens(sampler.next2D());
+        }
+        const Vec3 d = qs.si.p - lens;
         const double dist = length(d);
         const Vec3 dir = d / dist;
-        const auto r = cam.rasterPosition(dir);
+        const auto r = cam.rasterPosition(lens, dir);
         if (!r) return {};
         const double cosCam = dot(dir, cam.forward());
-        const double We = cam.importance(dir);
+        const double We = cam.importance(lens, dir);
         // Camera rays start at the near clip plane; points before it are invisible to them and must be
         // to light tracing too.
         if (!(We > 0) || !(cosCam > 0) || dist * cosCam < cam.nearClip()) return {};
         sampled = PathVertex{};
         sampled.type = VertexType::Camera;
-        sampled.si.p = cam.position();
-        // Solid-angle density at qs of choosing the pinhole, as a direct sample: d^2 / cos (pbrt-v3
-        // PerspectiveCamera::Sample_Wi with a lens of area 1).
-        sampled.beta = Spectrum(We * cosCam / (dist * dist));
+        sampled.si.p = lens;
+        // The lens point as a direct sample from qs: area density 1 / A_lens on the lens, d^2 / (cos A_lens)
+        // in solid angle at qs (pbrt-v3 PerspectiveCamera::Sample_Wi; a pinhole is a lens of area 1).
+        sampled.beta = Spectrum(We * cosCam * cam.lensArea() / (dist * dist));
         L = qs.beta * qs.f(sampled, Transport::Importance) * sampled.beta;
         if (qs.isOnSurface()) L *= std::abs(dot(dir, qs.si.ng));
         if (!L.isBlack() && !visible(scene_, qs, sampled)) L = {};

@@ -372,8 +372,8 @@ private:
     }
 
     void buildSensor(const SceneObject& o) {
-        if (o.type != "perspective")
-            o.fail("unsupported sensor type (lt renders through a `perspective` pinhole camera)");
+        if (o.type != "perspective" && o.type != "thinlens")
+            o.fail("unsupported sensor type (lt reads perspective and thinlens)");
         Film film;
         bool haveFilm = false;
         for (const auto& c : o.children) {
@@ -405,8 +405,16 @@ private:
         else if (axisName == "larger") axis = FovAxis::Larger;
         else o.fail("fovAxis must be x, y, diagonal, smaller or larger, not '" + axisName + "'");
         const double nearClip = o.getFloat("nearClip", 1e-2);
+        // Mitsuba's thinlens: apertureRadius required (Mitsuba turns 0 into a tiny aperture; lt into the
+        // pinhole it amounts to), focusDistance by default farClip (1e4).
+        ThinLens lens;
+        if (o.type == "thinlens") {
+            if (!o.has("apertureRadius")) o.fail("a thinlens sensor needs apertureRadius");
+            lens.apertureRadius = o.getFloat("apertureRadius");
+            lens.focusDistance = o.getFloat("focusDistance", o.getFloat("farClip", 1e4));
+        }
         try {
-            scene_.camera = PerspectiveCamera(o.getTransform("toWorld", Transform()), fov, axis, film, nearClip);
+            scene_.camera = PerspectiveCamera(o.getTransform("toWorld", Transform()), fov, axis, film, nearClip, lens);
         } catch (const Error& e) {
             o.fail(e.what());
         }

@@ -71,7 +71,16 @@ out=$("$bin/lt-mutate" "$scene" --space primary --target gradient --mutations 10
 check "--target gradient outside path space: refused" '[ $code -ne 0 ] && echo "$out" | grep -q "needs --space path"'
 out=$("$bin/lt-mutate" "$scene" --gradient-alpha 0.5 --mutations 100 -o "$tmp/x.lts" 2>&1); code=$?
 check "--gradient-alpha without --target gradient: refused" '[ $code -ne 0 ] && echo "$out" | grep -q "target gradient"'
+sed 's|<sensor type="perspective">|<sensor type="thinlens"><float name="apertureRadius" value="0.1"/>|' "$scene" \
+  > "$tmp/lens.xml"
+out=$("$bin/lt-mutate" "$tmp/lens.xml" --mutations 1000 -o "$tmp/x.lts" --stream "$tmp/x.ltp" 2>&1); code=$?
+check "--stream with a thin lens: refused (no lens points in the stream), no file" \
+  '[ $code -ne 0 ] && [ "$(echo "$out" | wc -l)" -eq 1 ] && echo "$out" | grep -q "lens.xml.*thinlens" &&
+   [ ! -e "$tmp/x.lts" ] && [ ! -e "$tmp/x.ltp" ]'
 "$bin/lt-mutate" "$scene" --mutations-per-pixel 16 --seed 2 -o "$tmp/mlt.lts" --stream "$tmp/stream.ltp" -q
+out=$("$bin/lt-gradient" "$tmp/lens.xml" --from-paths "$tmp/stream.ltp" -o "$tmp/x.lts" 2>&1); code=$?
+check "--from-paths with a thin lens: refused, no file" \
+  '[ $code -ne 0 ] && [ "$(echo "$out" | wc -l)" -eq 1 ] && echo "$out" | grep -q "thinlens" && [ ! -e "$tmp/x.lts" ]'
 check "the stream: chain-state chunks that lt-inspect lists" '"$bin/lt-inspect" "$tmp/stream.ltp" | grep -q CHST'
 head -c $(( $(stat -c %s "$tmp/stream.ltp") * 2 / 3 )) "$tmp/stream.ltp" > "$tmp/cut.ltp"
 out=$("$bin/lt-gradient" "$scene" --from-paths "$tmp/cut.ltp" -o "$tmp/x.lts" 2>&1); code=$?

@@ -32,7 +32,7 @@ bool movableEmitter(const Emitter& e) { return e.shape >= 0 || (e.isInfinite() &
 } // namespace
 
 BidirectionalMutation::BidirectionalMutation(const Scene& scene, int maxEdges)
-    : scene_(scene), maxEdges_(maxEdges), sensor_(scene.camera) {
+    : scene_(scene), maxEdges_(maxEdges), sensor_(scene.camera), cameraMovable_(scene.camera.hasAperture()) {
     std::vector<double> weights(scene.emitters.size(), 0.0);
     for (size_t i = 0; i < scene.emitters.size(); ++i)
         if (movableEmitter(*scene.emitters[i])) movableEmitterMass_ += weights[i] = scene.emitterSelection.pmf(i);
@@ -44,7 +44,7 @@ bool BidirectionalMutation::lightMovable(const MarkovPath& path) const {
 }
 
 double BidirectionalMutation::deletedProbability(int k, bool lightMovable, int kd) const {
-    const int kdMax = lightMovable ? k + 1 : k;
+    const int kdMax = k + int(lightMovable) + int(cameraMovable_);
     if (kd < 1 || kd > kdMax) return 0;
     double sum = 0;
     for (int j = 1; j <= kdMax; ++j)
@@ -53,10 +53,12 @@ double BidirectionalMutation::deletedProbability(int k, bool lightMovable, int k
 }
 
 double BidirectionalMutation::addedProbability(int k, int kd, int l, int ka) const {
+    // New vertices a - 1: at least the light vertex if it was deleted, and the camera vertex if it was.
+    const int endpoints = int(l == -1) + int(l + kd == k + 1);
     auto admissible = [&](int a) {
         const int length = k - kd + a;
         return a >= 1 && std::abs(a - kd) <= MaxLengthChange && length >= 1 && length <= maxEdges_ &&
-               !(kd == 1 && a == 1) && !(l == -1 && a < 2);
+               !(kd == 1 && a == 1) && a - 1 >= endpoints;
     };
     if (!admissible(ka)) return 0;
     double sum = 0;
@@ -66,9 +68,9 @@ double BidirectionalMutation::addedProbability(int k, int kd, int l, int ka) con
 }
 
 double BidirectionalMutation::rangeProbability(int k, bool lightMovable, int kd, int l, int ka) const {
-    const int lmin = lowestStart(lightMovable, kd);
-    if (l < lmin || l > k - kd) return 0;
-    return deletedProbability(k, lightMovable, kd) / double(k - kd - lmin + 1) * addedProbability(k, kd, l, ka);
+    const int lmin = lowestStart(lightMovable, kd), lmax = highestStart(k, kd);
+    if (l < lmin || l > lmax) return 0;
+    return deletedProbability(k, lightMovable, kd) / double(lmax - lmin + 1) * addedProbability(k, kd, l, ka);
 }
 
 double BidirectionalMutation::newVertexDensity(const MarkovPath& path, int lo, int hi, int split,
@@ -79,7 +81,8 @@ double BidirectionalMutation::newVertexDensity(const MarkovPath& path, int lo, i
     for (int s = 0; s <= n; ++s) {
         const int c = lo + s; // the first vertex sampled from the eye side; the connection is (c - 1, c)
         double p = 0;
-        if (c == 0 || (connectible(v[size_t(c) - 1]) && connectible(v[size_t(c)]))) {
+        // c = k + 1: every new vertex from the light side, the camera vertex too, which no light subpath reaches.
+        if (c < int(v.size()) && (c == 0 || (connectible(v[size_t(c) - 1]) && connectible(v[size_t(c)])))) {
             p = 1;
             for (int i = lo; i < c && p > 0; ++i)
                 p *= i == 0 ? densityFromLight(scene_, v, 0) / movableEmitterMass_
@@ -101,14 +104,14 @@ void BidirectionalMutation::propose(const MarkovPath& x, Pcg32& rng, Proposal& o
     int kd = 1;
     {
         double u = rng.nextDouble();
-        const int kdMax = movable ? k + 1 : k;
+        const int kdMax = k + int(movable) + int(cameraMovable_);
         for (kd = 1; kd < kdMax; ++kd) {
             u -= deletedProbability(k, movable, kd);
             if (u < 0) break;
         }
     }
-    const int lmin = lowestStart(movable, kd);
-    const int l = lmin + std::min(int(rng.nextDouble() * (k - kd - lmin + 1)), k - kd - lmin);
+    const int lmin = lowestStart(movable, kd), lmax = highestStart(k, kd);
+    const int l = lmin + std::min(int(rng.nextDouble() * (lmax - lmin + 1)), lmax - lmin);
     const int m = l + kd;
     int ka = 0;
     {
@@ -194,6 +197,14 @@ void BidirectionalMutation::propose(const MarkovPath& x, Pcg32& rng, Proposal& o
         light.push_back(*next);
     }
     for (int i = 0; i < t; ++i) {
+        if (eye.empty()) {
+            // The camera vertex anew: a point uniform on the thin lens's aperture (densityFromEye at k).
+            PathVertex camera = x.v.back();
+            camera.si.p = scene_.camera.sampleLens(Vec2(rng.nextDouble(), rng.nextDouble()));
+            sampled /= scene_.camera.lensArea();
+            eye.push_back(camera);
+            continue;
+        }
         PathVertex& from = eye.back();
         std::optional<PathVertex> next;
         double pdfArea = 0;
@@ -226,7 +237,9 @@ void BidirectionalMutation::propose(const MarkovPath& x, Pcg32& rng, Proposal& o
         sampled *= pdfArea;
         eye.push_back(*next);
     }
-    // 3. Join: the eye side reached the light (l = -1, s = 0), or a deterministic connection.
+    // 3. Join: the eye side reached the light (l = -1, s = 0), or a deterministic connection. A deleted
+    // camera vertex comes from the eye side only (no light subpath reaches a lens).
+    if (eye.empty()) return fail(RejectCause::ZeroContribution);
     if (light.empty()) {
         PathVertex& end = eye.back();
         if (!end.infinite) {

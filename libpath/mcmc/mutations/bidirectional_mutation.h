@@ -9,7 +9,9 @@
 // * the range start l uniform over its admissible values; l = -1 deletes the light vertex too (it is
 //   then re-sampled on an area emitter or as a direction of the environment, from the light side or by
 //   an eye subpath that hits the emitter or escapes to the sky; a point light's position and a
-//   directional light's direction are never re-sampled);
+//   directional light's direction are never re-sampled); m = k + 1 deletes the camera vertex of a thin
+//   lens too (Veach 1997 Sec. 11.4: the lens point is a vertex like any other; it is re-sampled uniform
+//   on the aperture by the eye side, which then starts there; a pinhole never moves);
 // * ka edges added, P(ka) proportional to 2^-|ka - kd|, |ka - kd| <= 8, within the maximum length;
 // * the split s uniform in [0, ka - 1].
 // T(x -> y) sums over every split that could have produced y (the same y comes from any of them); the
@@ -32,6 +34,8 @@ public:
 
     // The probability of choosing (kd, l, ka) at a path of k edges; 0 when not admissible.
     [[nodiscard]] double rangeProbability(int k, bool lightMovable, int kd, int l, int ka) const;
+    // Whether the camera vertex may be re-sampled (a thin lens).
+    [[nodiscard]] bool cameraMovable() const { return cameraMovable_; }
     // Sum over the splits s' of the delta-stripped density of sampling the vertices lo .. hi of `path`
     // (the new ones) that way, each split with probability 1 / (hi - lo + 2). `splitDensity` receives the
     // density of split `split`.
@@ -43,10 +47,13 @@ public:
 private:
     [[nodiscard]] double deletedProbability(int k, bool lightMovable, int kd) const;
     [[nodiscard]] double addedProbability(int k, int kd, int l, int ka) const;
+    // The last admissible range start for kd deleted edges (m = l + kd = k + 1 re-samples the camera vertex).
+    [[nodiscard]] int highestStart(int k, int kd) const { return k - kd + (cameraMovable_ && kd >= 2 ? 1 : 0); }
 
     const Scene& scene_;
     int maxEdges_;
     SensorWindow sensor_;
+    bool cameraMovable_ = false;
     double movableEmitterMass_ = 0; // selection probability of the emitters whose vertex can move (area, environment)
     DiscreteDistribution movableSelection_; // the emitter selection restricted to those emitters
 };

@@ -96,7 +96,7 @@ std::vector<Gaussian2> HalfVectorMutation::kernels(const MarkovPath& path, const
         const ManifoldVertex& last = s.chain[s.chain.size() - 2];
         const auto& film = scene_.camera.film();
         const auto onPlane = [&](const Vec2& raster) -> std::optional<Vec3> {
-            const Ray r = scene_.camera.generateRay(raster);
+            const Ray r = scene_.camera.generateRay(raster, path.v.back().si.p);
             const double t = planeCrossing(r.o, r.d, last.p, last.ng);
             if (!std::isfinite(t)) return std::nullopt;
             return r.o + r.d * t;

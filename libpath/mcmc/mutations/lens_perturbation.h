@@ -6,7 +6,9 @@
 // T in the measure of f: the state's changed vertices x_j' .. x_{k-1}' are a function of the raster
 // position, so T(x -> y) = p_offset(r) |d raster / d x_{k-1}'| x (the stripped densities of the chain's
 // vertices with the lobes fixed): p_offset(r) eyeChainDensity(y) (specular_chain.h).
-// p_offset is symmetric and cancels in the ratio, the Jacobians do not.
+// p_offset is symmetric and cancels in the ratio, the Jacobians do not. Through a thin lens the lens point
+// moves too, by a symmetric kernel (specular_chain.h perturbCamera) that cancels as p_offset does; the
+// Jacobians are then those of the new lens point's chain.
 #pragma once
 
 #include "mcmc/mutation.h"

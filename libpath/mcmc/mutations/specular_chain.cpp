@@ -3,6 +3,7 @@
 #include "bsdf/half_vector.h"
 #include "bsdf/shading_correction.h"
 #include "math/frame.h"
+#include "math/warp.h"
 #include "mcmc/mutations/trace.h"
 
 namespace lt {
@@ -105,21 +106,43 @@ std::optional<RejectCause> followChain(const Scene& scene, const std::vector<Pat
     }
 }
 
+namespace {
+
+std::optional<Vec3> perturbLens(const PerspectiveCamera& camera, const Vec3& lens, Pcg32& rng) {
+    const Vec2 u(rng.nextDouble(), rng.nextDouble());
+    if (rng.nextDouble() < 0.5) return camera.sampleLens(u);
+    const double R = camera.lens().apertureRadius;
+    const Frame axis = Frame::fromNormal(camera.forward());
+    const Vec2 step = warp::squareToUniformDiskConcentric(u) * (0.1 * R);
+    const Vec3 moved = lens + axis.s * step.x + axis.t * step.y;
+    if (lengthSquared(moved - camera.position()) > R * R) return std::nullopt;
+    return moved;
+}
+
+} // namespace
+
 std::optional<CameraPerturbation> perturbCamera(const PerspectiveCamera& camera, const SensorWindow& sensor,
-                                                const ReciprocalKernel& radius, const Vec2& raster, Pcg32& rng) {
+                                                const ReciprocalKernel& radius, const Vec2& raster, const Vec3& lens,
+                                                Pcg32& rng) {
     const double r = radius.sample(rng.nextDouble());
     const double phi = 2 * Pi * rng.nextDouble();
     const Vec2 moved(raster.x + r * std::cos(phi), raster.y + r * std::sin(phi));
     if (moved.x < sensor.x0 || moved.x >= sensor.x0 + sensor.width || moved.y < sensor.y0 ||
         moved.y >= sensor.y0 + sensor.height)
         return std::nullopt;
+    Vec3 lensPoint = lens;
+    if (camera.hasAperture()) {
+        const auto p = perturbLens(camera, lens, rng);
+        if (!p) return std::nullopt;
+        lensPoint = *p;
+    }
     CameraPerturbation c;
-    c.ray = camera.generateRay(moved);
+    c.ray = camera.generateRay(moved, lensPoint);
     c.pOffset = radius.planeDensity(r);
     // pdfEmission's pdfDir is that of a raster position uniform over the crop window: times the crop
     // window's area, the Jacobian from raster to solid angle.
     double pdfPos = 0, pdfDir = 0;
-    camera.pdfEmission(c.ray.d, pdfPos, pdfDir);
+    camera.pdfEmission(lensPoint, c.ray.d, pdfPos, pdfDir);
     c.pdfDir = c.pOffset * double(camera.film().cropWidth) * double(camera.film().cropHeight) * pdfDir;
     return c;
 }
@@ -146,12 +169,13 @@ int firstNonSpecularFromEye(const std::vector<PathVertex>& v) {
 std::optional<double> perturbLensChain(const Scene& scene, const SensorWindow& sensor, const ReciprocalKernel& radius,
                                        const MarkovPath& x, int to, Pcg32& rng, Proposal& out, double& sampled) {
     // Off the sensor window is off the image.
-    const auto cam = perturbCamera(scene.camera, sensor, radius, x.raster, rng);
+    const auto cam = perturbCamera(scene.camera, sensor, radius, x.raster, x.v.back().si.p, rng);
     if (!cam) {
         out.failed = RejectCause::LeftImage;
         return std::nullopt;
     }
     out.y = x;
+    out.y.v.back().si.p = cam->ray.o;
     if (const auto why =
             followChain(scene, x.v, out.y.v, x.edges(), to, cam->ray, cam->pdfDir, Transport::Radiance, sampled)) {
         out.failed = why;

@@ -72,14 +72,18 @@ struct ReciprocalKernel {
 // The lens perturbation's first step, shared with the multi-chain
 // perturbation: a raster position at distance r from `raster` (density pOffset per unit raster area)
 // and the camera ray through it with its solid-angle density; nothing when it leaves the sensor window.
+// A thin lens's point moves too (a pinhole's stays): with probability 1/2 to a point uniform on the
+// aperture, otherwise uniformly within a tenth of the aperture's radius of `lens` (nothing when that
+// leaves the aperture). The kernel is symmetric, so it cancels from T(x -> y) / T(y -> x) as p_offset
+// does; without it a chain would keep the lens point it started with.
 struct CameraPerturbation {
-    Ray ray;
+    Ray ray; // from the new lens point
     double pOffset = 0, pdfDir = 0;
 };
 [[nodiscard]] std::optional<CameraPerturbation> perturbCamera(const PerspectiveCamera& camera,
                                                               const SensorWindow& sensor,
                                                               const ReciprocalKernel& radius, const Vec2& raster,
-                                                              Pcg32& rng);
+                                                              const Vec3& lens, Pcg32& rng);
 // Steps 2 and 3 of the lens perturbation, also the multi-chain perturbation's start: perturb the camera
 // ray, then follow x's eye-side specular chain to vertex `to` into out.y (a copy of x), multiplying
 // `sampled`. Returns the raster offset's density, or nothing with out.failed set.

@@ -390,6 +390,10 @@ TEST_CASE("the sensor: film, crop, filters, sampler and integrator defaults", "[
     // fov 40 along y on a 2:1 film: the horizontal fov is 2 atan(2 tan 20deg).
     CHECK(s->camera.fovX() == Approx(radToDeg(2 * std::atan(2 * std::tan(degToRad(20))))));
     CHECK(std::find(s->ignoredHints.begin(), s->ignoredHints.end(), "integrator bdpt: lightImage") != s->ignoredHints.end());
+    // Mitsuba's direct integrator: emitters seen directly and single scattering, paths of two edges.
+    CHECK(loadScene(
+              sceneFile(dir, R"(<integrator type="direct"><integer name="emitterSamples" value="4"/></integrator>)"))
+              ->integrator.maxDepth == 2);
 }
 
 TEST_CASE("the thinlens sensor: aperture radius, focus distance (farClip by default), 0 a pinhole",
@@ -416,11 +420,12 @@ TEST_CASE("the thinlens sensor: aperture radius, focus distance (farClip by defa
     CHECK_THAT(errorOf(f), Equals(f + ":2: <sensor type=\"thinlens\">: a thinlens sensor needs apertureRadius"));
     sensor(R"(<float name="apertureRadius" value="0.1"/><float name="focusDistance" value="-2"/>)");
     CHECK_THAT(errorOf(f), Equals(f + ":2: <sensor type=\"thinlens\">: focusDistance must be finite and > 0"));
-    // A perspective sensor does not read them (Mitsuba 0.6 warns the same way).
+    // Every projective camera of Mitsuba reads focusDistance (0.6 sensor.cpp): a pinhole's is a hint, not a warning.
     const auto p =
-        loadScene(sceneFile(dir, R"(<sensor type="perspective"><float name="focusDistance" value="3"/></sensor>)"));
-    REQUIRE(p->warnings.size() == 1);
-    CHECK_THAT(p->warnings[0], Contains("focusDistance"));
+        loadScene(sceneFile(dir, R"(<sensor type="perspective"><float name="focusDistance" value="3"/></sensor>)"), {},
+                  UnknownProperties::Fail);
+    CHECK(std::find(p->ignoredHints.begin(), p->ignoredHints.end(), "sensor perspective: focusDistance") !=
+          p->ignoredHints.end());
 }
 
 TEST_CASE("bad input: one clear error line naming file, line and element", "[loader]") {

@@ -275,7 +275,7 @@ TEST_CASE("properties lt does not read: a warning once per plugin and property, 
     test::TempDir dir;
     const std::string f = dir.write("lenient.xml", R"(<scene version="0.6.0">
 <sensor type="perspective"><float name="fov" value="30"/>
-  <float name="focusDistance" value="3"/></sensor>
+  <float name="apertureRadius" value="0.1"/></sensor>
 <shape type="sphere"><bsdf type="conductor"><float name="alpha" value="0.2"/></bsdf></shape>
 <shape type="sphere"><point name="center" x="3" y="0" z="0"/>
   <bsdf type="conductor"><float name="alpha" value="0.2"/></bsdf></shape>
@@ -285,15 +285,16 @@ TEST_CASE("properties lt does not read: a warning once per plugin and property, 
     const auto s = loadScene(f);
     REQUIRE(s->warnings.size() == 2);
     CHECK_THAT(s->warnings[0],
-               Equals(f + ":3: <sensor type=\"perspective\">: property 'focusDistance' is not read by lt "
+               Equals(f + ":3: <sensor type=\"perspective\">: property 'apertureRadius' is not read by lt "
                           "and was ignored; --strict makes this an error"));
     CHECK_THAT(s->warnings[1], Equals(f + ":4: <bsdf type=\"conductor\">: property 'alpha' is not read by lt and was "
                                           "ignored (also at 1 other place(s)); --strict makes this an error"));
     // An integrator's options are the tools' business: a hint, not a warning.
     CHECK(contains(s->ignoredHints, "integrator path: usePathGuiding"));
     CHECK_THAT(loadError(f, UnknownProperties::Fail),
-               Equals(f + ":3: <sensor type=\"perspective\"> does not read the property 'focusDistance' (an error with "
-                          "--strict; without it lt warns and ignores it, as Mitsuba 0.6 does)"));
+               Equals(f +
+                      ":3: <sensor type=\"perspective\"> does not read the property 'apertureRadius' (an error with "
+                      "--strict; without it lt warns and ignores it, as Mitsuba 0.6 does)"));
 }
 
 TEST_CASE("a named ref its parent does not read is an error; a shape instanced twice is checked once",

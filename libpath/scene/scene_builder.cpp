@@ -418,7 +418,9 @@ private:
         } catch (const Error& e) {
             o.fail(e.what());
         }
-        finish(o, {"farClip", "shutterOpen", "shutterClose"});
+        // Mitsuba's projective cameras all read focusDistance (0.6 sensor.cpp, 3's ProjectiveCamera); a
+        // pinhole has no use for it.
+        finish(o, {"farClip", "shutterOpen", "shutterClose", "focusDistance"});
     }
 
     Film buildFilm(const SceneObject& o) {
@@ -460,7 +462,8 @@ private:
 
     void buildIntegrator(const SceneObject& o) {
         scene_.integrator.type = o.type;
-        scene_.integrator.maxDepth = o.getInteger("maxDepth", -1);
+        // Mitsuba's `direct` renders the emitters seen directly and single scattering: paths of two edges.
+        scene_.integrator.maxDepth = o.getInteger("maxDepth", o.type == "direct" ? 2 : -1);
         scene_.integrator.rrDepth = o.getInteger("rrDepth", 5);
         if (scene_.integrator.maxDepth < -1 || scene_.integrator.maxDepth == 0)
             o.fail("maxDepth must be -1 (unbounded) or at least 1");

@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "bsdf/blend.h"
+#include "bsdf/bump_mapped.h"
 #include "bsdf/conductor.h"
 #include "bsdf/dielectric.h"
 #include "bsdf/diffuse.h"
@@ -353,6 +354,11 @@ std::vector<Config> makeConfigs() {
                                                             makeBsdf<RoughDielectric>(rd)});
                  },
                  dirFromAngles(th, 50, below), 0.3, 0.3});
+        configs.push_back({"bumpmap(roughconductor) th=" + std::to_string(th),
+                           [=]() -> std::shared_ptr<const Bsdf> {
+                               return std::make_shared<BumpMappedBsdf>(tex(0.2), makeBsdf<RoughConductor>(rc));
+                           },
+                           dirFromAngles(th, 50), 0.1, 0.1});
         configs.push_back({"mask(roughconductor) th=" + std::to_string(th),
                            [=] {
                                return makeBsdf<MaskBsdf>(MaskParams{tex(0.4), makeBsdf<RoughConductor>(rc)});
@@ -404,8 +410,8 @@ TEST_CASE("chi-square: roughdielectric (GGX, anisotropic, extreme eta) sampling 
 
 TEST_CASE("chi-square: roughplastic sampling matches pdf", "[bsdf][chi2]") { runFamily({"roughplastic"}); }
 
-TEST_CASE("chi-square: phong, ward, blendbsdf and mask sampling match pdf", "[bsdf][chi2]") {
-    runFamily({"phong", "ward", "blendbsdf", "mask"});
+TEST_CASE("chi-square: phong, ward, blendbsdf, mask and bumpmap sampling match pdf", "[bsdf][chi2]") {
+    runFamily({"phong", "ward", "blendbsdf", "mask", "bumpmap"});
 }
 
 TEST_CASE("chi-square p-value helper matches known quantiles", "[bsdf]") {

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "bsdf/blend.h"
+#include "bsdf/bump_mapped.h"
 #include "bsdf/conductor.h"
 #include "bsdf/conductor_presets.h"
 #include "bsdf/dielectric.h"
@@ -147,6 +148,10 @@ std::vector<Named> allBsdfs() {
         v.push_back({b.name, std::make_shared<BlendBsdf>(b.params)});
     for (const auto& [name, params] : masks())
         v.push_back({name, std::make_shared<MaskBsdf>(params)});
+    // The bumpmap is the nested BSDF in a tilted frame (applied by the surface, scene/bump_frame.h): its local
+    // functions are the nested ones, checked here like any BSDF all the same.
+    v.push_back({"bumpmap(roughplastic)",
+                 std::make_shared<BumpMappedBsdf>(tex(0.1), std::make_shared<RoughPlastic>(RoughPlasticParams{}))});
     return v;
 }
 

@@ -54,6 +54,20 @@ std::vector<float> renderImage(const Scene& scene, PixelMethod method, int spp, 
     return film.develop();
 }
 
+// Both pixel estimators on a scene of paths of at most two edges whose every pixel has the value `expected`
+// (a plane under one light): the image mean within 5 standard errors of the pixels, plus a known `bias`.
+void checkTwoEdgeImage(const Scene& scene, int size, int spp, double expected, double bias = 0) {
+    for (PixelMethod m : {PixelMethod::Bdpt, PixelMethod::PathTracing}) {
+        CAPTURE(int(m));
+        PathSettings b;
+        b.maxDepth = 2;
+        const auto img = renderImage(scene, m, spp, b);
+        const PixelStats s = stats(img, size, 0, 0, size, size);
+        INFO("mean " << s.mean << " +- " << s.stderr_ << ", expected " << expected);
+        CHECK(std::abs(s.mean - expected) <= 5 * s.stderr_ + bias + 1e-6 * expected);
+    }
+}
+
 } // namespace
 
 TEST_CASE("furnace box: every pixel is Le * sum of rho^k for k < maxDepth", "[render]") {
@@ -241,15 +255,7 @@ TEST_CASE("a diffuse plane in sunlight: L = rho/pi E cos, for the sun disk in a 
         // The map moves the disk's light to the centres of the texels it covers: at most a texel
         // (2 pi / 2048) away, which changes cos(zenith) by at most sin(zenith) times that.
         const double texelBias = std::string(radiusScale) == "1" ? rho / Pi * E.g * std::sin(zenith) * TwoPi / 2048 : 0;
-        for (PixelMethod m : {PixelMethod::Bdpt, PixelMethod::PathTracing}) {
-            CAPTURE(int(m));
-            PathSettings b;
-            b.maxDepth = 2;
-            const auto img = renderImage(*scene, m, 8, b);
-            const PixelStats s = stats(img, 16, 0, 0, 16, 16);
-            INFO("mean " << s.mean << " +- " << s.stderr_ << ", expected " << expected);
-            CHECK(std::abs(s.mean - expected) <= 5 * s.stderr_ + texelBias + 1e-6 * expected);
-        }
+        checkTwoEdgeImage(*scene, 16, 8, expected, texelBias);
     }
 }
 
@@ -328,6 +334,53 @@ TEST_CASE("a thin lens blurs an edge out of focus by its circle of confusion and
             }
         }
     }
+}
+
+TEST_CASE("a bump map tilts the shading normal: a diffuse plane under a directional light by Blinn's frame",
+          "[render][bumpmap]") {
+    test::TempDir dir;
+    // Displacement: a 2 x 1 grey image 0 | 1, clamped, read bilinearly: between the texel centres (u in [0.25,
+    // 0.75]) it rises by 2 per unit u; scaled by 0.5, by 1. The rectangle [-1, 1]^2 (uv = [0, 1]^2, |dp/du| =
+    // 2) displaced that way has tangent dp/du + n and normal (-1, 0, 2) / sqrt(5) there (Blinn 1978;
+    // Mitsuba's bumpmap), 26.6 degrees from +z toward -x.
+    test::writeRgbExr(dir.file("ramp.exr"), 2, 1, {0, 0, 0, 1, 1, 1});
+    const Vec3 toLight = normalize(Vec3(0.6, 0, 1));
+    auto scene = [&](bool bumped) {
+        const std::string diffuse = R"(<bsdf type="diffuse"><rgb name="reflectance" value="0.5"/></bsdf>)";
+        const std::string bsdf = bumped
+                                     ? R"(<bsdf type="bumpmap"><texture type="scale"><float name="scale" value="0.5"/>
+      <texture type="bitmap"><string name="filename" value="ramp.exr"/><string name="wrapMode" value="clamp"/>
+        <float name="gamma" value="1"/></texture></texture>)" +
+                                           diffuse + "</bsdf>"
+                                     : diffuse;
+        return loadScene(dir.write("bump.xml", R"(<scene version="0.6.0">
+  <sensor type="perspective"><float name="fov" value="10"/>
+    <transform name="toWorld"><lookat origin="0,0,4" target="0,0,0" up="0,1,0"/></transform>
+    <film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/><rfilter type="box"/></film>
+  </sensor>
+  <emitter type="directional"><vector name="direction" x="-0.6" y="0" z="-1"/><rgb name="irradiance" value="1"/></emitter>
+  <shape type="rectangle">)" + bsdf + R"(</shape>
+</scene>)"),
+                         {}, UnknownProperties::Fail);
+    };
+    const auto flat = scene(false), bumped = scene(true);
+    CHECK(bumped->bsdfs.at(0).bsdf->typeName() == "bumpmap");
+    // The frame itself, at a point of the ramp, from the unbumped geometry and the slope alone.
+    const SurfaceInteraction plain = flat->shapes[0].surfaceAt(0, {0.2, 0.3});
+    const SurfaceInteraction tilted = bumped->shapes[0].surfaceAt(0, {0.2, 0.3});
+    REQUIRE(plain.uv.x > 0.3);
+    REQUIRE(plain.uv.x < 0.7);
+    const double slope = 1.0; // displacement per unit u
+    const Vec3 expectedNormal = normalize(cross(plain.dpdu + plain.shading.n * slope, plain.dpdv)) *
+                                (dot(cross(plain.dpdu, plain.dpdv), plain.ng) > 0 ? 1.0 : -1.0);
+    CHECK(length(tilted.shading.n - expectedNormal) < 1e-6);
+    CHECK(length(tilted.shading.n - normalize(Vec3(-1, 0, 2))) < 1e-6);
+    CHECK(tilted.ng == plain.ng);
+    // The image: L = rho / pi E cos(light, n') (the shading-normal BSDF, geometric cosines in G), exact for
+    // next-event estimation of a directional light: no noise to speak of.
+    const double expected = 0.5 / Pi * dot(toLight, normalize(Vec3(-1, 0, 2)));
+    CHECK(std::abs(expected - 0.5 / Pi * toLight.z) > 0.03); // the flat plane's value is far off
+    checkTwoEdgeImage(*bumped, 8, 4, expected);
 }
 
 TEST_CASE("BDPT and path tracing agree on the public cornell-box", "[render]") {

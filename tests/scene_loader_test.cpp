@@ -370,6 +370,28 @@ TEST_CASE("bitmap filterType and wrap modes as Mitsuba 0.6 names them", "[loader
                                       "bilinear, nearest"));
 }
 
+TEST_CASE("bumpmap and the scale texture build from XML; a bumpmap inside another BSDF is refused",
+          "[loader][bumpmap]") {
+    test::TempDir dir;
+    writeExr(dir.file("h.exr"), 4, 4, 0.5f);
+    const auto s = loadScene(sceneFile(dir, R"(<shape type="rectangle"><bsdf type="bumpmap">
+        <texture type="scale"><float name="scale" value="0.1"/><texture type="bitmap"><string name="filename" value="h.exr"/></texture></texture>
+        <bsdf type="twosided"><bsdf type="diffuse"/></bsdf></bsdf></shape>)"),
+                             {}, UnknownProperties::Fail);
+    CHECK(s->bsdfs.at(0).bsdf->typeName() == "bumpmap");
+    REQUIRE(s->shapes.at(0).bump);
+    CHECK(s->shapes[0].bump->average().g == Approx(0.05));
+    const std::string f = dir.file("scene.xml");
+    sceneFile(dir, "<bsdf type=\"twosided\" id=\"t\">\n<bsdf type=\"bumpmap\"><texture type=\"checkerboard\"/><bsdf "
+                   "type=\"diffuse\"/></bsdf></bsdf>");
+    CHECK_THAT(errorOf(f), Equals(f + ":3: <bsdf type=\"bumpmap\">: a bumpmap must be the outermost BSDF of its shapes "
+                                      "(lt tilts the surface's shading frame)"));
+    sceneFile(dir, "<bsdf type=\"bumpmap\" id=\"b\">\n<bsdf type=\"diffuse\"/></bsdf>");
+    CHECK_THAT(errorOf(f),
+               Equals(f + ":2: <bsdf type=\"bumpmap\" id=\"b\">: bumpmap takes one displacement texture and "
+                          "one nested BSDF"));
+}
+
 TEST_CASE("the sensor: film, crop, filters, sampler and integrator defaults", "[loader]") {
     test::TempDir dir;
     const auto s = loadScene(sceneFile(dir, R"(

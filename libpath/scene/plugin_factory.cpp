@@ -1,6 +1,7 @@
 #include "scene/plugin_factory.h"
 
 #include "bsdf/blend.h"
+#include "bsdf/bump_mapped.h"
 #include "bsdf/conductor.h"
 #include "bsdf/conductor_presets.h"
 #include "bsdf/dielectric.h"
@@ -105,6 +106,8 @@ void PluginFactory::noteEnergyScale(const SceneObject& o, const GlossyDiffuseBsd
 }
 
 std::shared_ptr<const Bsdf> PluginFactory::nestedBsdf(const SceneObject& parent, const SceneObject& child) {
+    if (child.type == "bumpmap")
+        child.fail("a bumpmap must be the outermost BSDF of its shapes (lt tilts the surface's shading frame)");
     consumed_.insert({&parent, &child});
     return bsdf(child);
 }
@@ -112,9 +115,8 @@ std::shared_ptr<const Bsdf> PluginFactory::nestedBsdf(const SceneObject& parent,
 void PluginFactory::finish(const SceneObject& o, const std::set<std::string>& hints) {
     unread_.check(o, hints);
     for (const auto& c : o.children) {
-        // Every nested object must have been consumed as a named texture or nested BSDF.
-        if ((c->tag == "texture" && !c->name.empty()) || c->tag == "bsdf")
-            if (consumed_.count({&o, c.get()})) continue;
+        // Every nested object must have been consumed as a texture or nested BSDF.
+        if ((c->tag == "texture" || c->tag == "bsdf") && consumed_.count({&o, c.get()})) continue;
         c->fail("not used by its <" + o.tag + " type=\"" + o.type + "\"> (check its name)");
     }
 }
@@ -142,12 +144,18 @@ std::shared_ptr<const Texture> PluginFactory::texture(const SceneObject& o) {
             o.fail(e.what());
         }
         finish(o, {"maxAnisotropy", "cache"});
+    } else if (o.type == "scale") {
+        const auto nested = o.childrenWithTag("texture");
+        if (nested.size() != 1) o.fail("scale takes one nested texture");
+        consumed_.insert({&o, nested[0].get()});
+        t = std::make_shared<ScaledTexture>(texture(*nested[0]), o.getSpectrum("scale", Spectrum(1.0)));
+        finish(o);
     } else if (o.type == "checkerboard") {
         t = std::make_shared<CheckerboardTexture>(o.getSpectrum("color0", Spectrum(0.4)),
                                                   o.getSpectrum("color1", Spectrum(0.2)), offset, scale);
         finish(o);
     } else {
-        o.fail("unknown texture type (lt reads bitmap and checkerboard)");
+        o.fail("unknown texture type (lt reads bitmap, checkerboard and scale)");
     }
     textures_[o.declaration()] = t;
     return t;
@@ -260,6 +268,18 @@ std::shared_ptr<const Bsdf> PluginFactory::bsdf(const SceneObject& o) {
             p.second = nestedBsdf(o, *nested[1]);
             b = std::make_shared<BlendBsdf>(p);
             finish(o);
+        } else if (o.type == "bumpmap") {
+            const auto nested = o.childrenWithTag("bsdf");
+            const auto textures = o.childrenWithTag("texture");
+            if (nested.size() != 1 || textures.size() != 1)
+                o.fail("bumpmap takes one displacement texture and one nested BSDF");
+            consumed_.insert({&o, textures[0].get()});
+            std::shared_ptr<const Texture> displacement = texture(*textures[0]);
+            // Mitsuba 3's bumpmap scales the displacement (`scale`, default 1); 0.6's has no such option.
+            if (o.has("scale"))
+                displacement = std::make_shared<ScaledTexture>(displacement, Spectrum(o.getFloat("scale")));
+            b = std::make_shared<BumpMappedBsdf>(displacement, nestedBsdf(o, *nested[0]));
+            finish(o);
         } else if (o.type == "mask") {
             const auto nested = o.childrenWithTag("bsdf");
             if (nested.size() != 1) o.fail("mask takes one nested BSDF");
@@ -298,7 +318,7 @@ std::shared_ptr<const Bsdf> PluginFactory::bsdf(const SceneObject& o) {
             finish(o);
         } else {
             o.fail("unknown BSDF type (lt reads diffuse, twosided, dielectric, thindielectric, roughdielectric, "
-                   "conductor, roughconductor, plastic, roughplastic, phong, ward, blendbsdf, mask)");
+                   "conductor, roughconductor, plastic, roughplastic, phong, ward, blendbsdf, mask, bumpmap)");
         }
     } catch (const Error& e) {
         const std::string what = e.what();

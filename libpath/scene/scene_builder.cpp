@@ -10,6 +10,7 @@
 
 #include "math/constants.h"
 #include "math/error.h"
+#include "bsdf/bump_mapped.h"
 #include "scene/emitters/sun_position.h"
 #include "scene/emitters/sun_sky.h"
 #include "scene/missing_file.h"
@@ -278,6 +279,10 @@ private:
             shape.bsdf = int(scene_.bsdfs.size());
             scene_.bsdfs.push_back({PluginFactory::defaultBsdf(), "", shape.origin});
         }
+        // A bumpmap tilts the shading frame of the shape's points (scene/bump_frame.h).
+        if (shape.bsdf >= 0)
+            if (const auto* bumped = dynamic_cast<const BumpMappedBsdf*>(scene_.bsdfs[size_t(shape.bsdf)].bsdf.get()))
+                shape.bump = bumped->displacement();
         finish(o, {"maxSmoothAngle"});
         if (emitter) areaEmitters.emplace_back(emitter, int(scene_.shapes.size()));
         scene_.shapes.push_back(std::move(shape));

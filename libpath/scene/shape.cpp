@@ -8,6 +8,7 @@
 #include "math/error.h"
 #include "math/numeric.h"
 #include "math/warp.h"
+#include "scene/bump_frame.h"
 
 namespace lt {
 
@@ -226,6 +227,7 @@ SurfaceInteraction Shape::surfaceAt(uint32_t prim, const Vec2& coords) const {
         break;
     }
     }
+    if (bump) applyBumpMap(si, *bump);
     return si;
 }
 

@@ -3,12 +3,14 @@
 // for the manifold walks instead of being tessellated.
 #pragma once
 
+#include <memory>
 #include <string>
 
 #include "math/distribution.h"
 #include "math/transform.h"
 #include "scene/interaction.h"
 #include "scene/mesh.h"
+#include "texture/texture.h"
 
 namespace lt {
 
@@ -59,7 +61,8 @@ public:
     [[nodiscard]] bool hasShadingNormals() const { return kind_ != Kind::Triangles || !mesh_.normals.empty(); }
 
     // Full differential geometry at a point given by (prim, coords): barycentrics (b1, b2) for
-    // triangles, uv for analytic shapes. The same call rebuilds a stored path vertex.
+    // triangles, uv for analytic shapes, with the bump map's shading frame (bump). The same call rebuilds a
+    // stored path vertex.
     [[nodiscard]] SurfaceInteraction surfaceAt(uint32_t prim, const Vec2& coords) const;
     // Just the position, geometric normal (oriented exactly as surfaceAt orients it) and magnitude at
     // (prim, coords): what sampling a point and testing its visibility need, without the differential
@@ -75,6 +78,7 @@ public:
 
     // Scene bookkeeping, set by the loader.
     int bsdf = -1;
+    std::shared_ptr<const Texture> bump; // the displacement of its BSDF's bumpmap, if any (scene/bump_frame.h)
     int emitter = -1;
     bool portal = false;
     std::string type;      // Mitsuba plugin name, e.g. "obj", "rectangle"

@@ -18,6 +18,12 @@
 
 namespace lt {
 
+Vec2 Texture::luminanceGradient(const Vec2& uv) const {
+    constexpr double h = 1e-4;
+    return {(eval({uv.x + h, uv.y}).luminance() - eval({uv.x - h, uv.y}).luminance()) / (2 * h),
+            (eval({uv.x, uv.y + h}).luminance() - eval({uv.x, uv.y - h}).luminance()) / (2 * h)};
+}
+
 Spectrum CheckerboardTexture::eval(const Vec2& uv) const {
     // Mitsuba 0.5 src/textures/checkerboard.cpp: color0 where int(2u') and int(2v') have the same parity,
     // so one unit of uv' holds 2x2 checks. The conversion truncates toward zero (a C cast, not floor),

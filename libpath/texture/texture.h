@@ -21,6 +21,9 @@ public:
     // Per-channel maximum over the domain: Mitsuba's energy-conservation check of phong and ward reads it.
     [[nodiscard]] virtual Spectrum maximum() const = 0;
     [[nodiscard]] virtual bool isConstant() const { return false; }
+    // The gradient of the luminance in uv (a bump map's displacement slope): central differences of eval
+    // 1e-4 apart in u and in v, which for a bilinear bitmap is its exact slope away from texel boundaries.
+    [[nodiscard]] virtual Vec2 luminanceGradient(const Vec2& uv) const;
 };
 
 class ConstantTexture final : public Texture {
@@ -30,9 +33,25 @@ public:
     [[nodiscard]] Spectrum average() const override { return value_; }
     [[nodiscard]] Spectrum maximum() const override { return value_; }
     [[nodiscard]] bool isConstant() const override { return true; }
+    [[nodiscard]] Vec2 luminanceGradient(const Vec2&) const override { return {}; }
 
 private:
     Spectrum value_;
+};
+
+// Mitsuba's `scale`: a nested texture times a constant (as bump maps scale their displacement).
+class ScaledTexture final : public Texture {
+public:
+    ScaledTexture(std::shared_ptr<const Texture> nested, const Spectrum& scale)
+        : nested_(std::move(nested)), scale_(scale) {}
+    [[nodiscard]] Spectrum eval(const Vec2& uv) const override { return nested_->eval(uv) * scale_; }
+    [[nodiscard]] Spectrum average() const override { return nested_->average() * scale_; }
+    [[nodiscard]] Spectrum maximum() const override { return max(nested_->maximum() * scale_, Spectrum(0.0)); }
+    [[nodiscard]] bool isConstant() const override { return nested_->isConstant(); }
+
+private:
+    std::shared_ptr<const Texture> nested_;
+    Spectrum scale_;
 };
 
 // Mitsuba's `checkerboard` (checkerboard.cpp): with (u', v') = uv * scale + offset, color0 where

@@ -321,7 +321,7 @@ std::vector<Config> makeConfigs() {
     for (double n : {1.0, 30.0, 2000.0})
         for (double th : thetas) {
             PhongParams p;
-            p.exponent = n;
+            p.exponent = tex(n);
             const double a = std::sqrt(2 / (n + 2)); // bins scaled to the lobe's Beckmann-equivalent width
             configs.push_back({"phong n=" + std::to_string(n) + " th=" + std::to_string(th),
                                [=] { return makeBsdf<Phong>(p); }, dirFromAngles(th, 40), a, a});
@@ -330,8 +330,8 @@ std::vector<Config> makeConfigs() {
         for (double th : thetas) {
             WardParams p;
             p.variant = variant;
-            p.alphaU = 0.05;
-            p.alphaV = 0.3;
+            p.alphaU = tex(0.05);
+            p.alphaV = tex(0.3);
             configs.push_back({"ward variant " + std::to_string(int(variant)) + " th=" + std::to_string(th),
                                [=] { return makeBsdf<Ward>(p); }, dirFromAngles(th, 65), 0.05, 0.3});
         }

@@ -9,6 +9,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "bsdf/blend.h"
@@ -133,15 +134,15 @@ std::vector<Named> allBsdfs() {
     v.push_back({"plastic nonlinear", std::make_shared<Plastic>(nl)});
     for (double n : {1.0, 30.0, 2000.0}) {
         PhongParams p;
-        p.exponent = n;
+        p.exponent = tex(n);
         p.reflectances.specularReflectance = tex(0.4);
         v.push_back({"phong n=" + std::to_string(n), std::make_shared<Phong>(p)});
     }
     for (WardVariant variant : {WardVariant::Ward, WardVariant::WardDuer, WardVariant::Balanced}) {
         WardParams p;
         p.variant = variant;
-        p.alphaU = 0.05;
-        p.alphaV = 0.3;
+        p.alphaU = tex(0.05);
+        p.alphaV = tex(0.3);
         v.push_back({"ward variant " + std::to_string(int(variant)), std::make_shared<Ward>(p)});
     }
     for (const Blend& b : blends())
@@ -625,13 +626,13 @@ TEST_CASE("no NaN or Inf over the stiff parameter ranges", "[bsdf]") {
     }
     for (double a : {1e-4, 1e-2, 1.0}) {
         PhongParams pp;
-        pp.exponent = 2 / (a * a) - 2; // the Beckmann-equivalent alpha a
+        pp.exponent = tex(2 / (a * a) - 2); // the Beckmann-equivalent alpha a
         bsdfs.push_back({"phong", std::make_shared<Phong>(pp)});
         for (WardVariant variant : {WardVariant::Ward, WardVariant::WardDuer, WardVariant::Balanced}) {
             WardParams wp;
             wp.variant = variant;
-            wp.alphaU = a;
-            wp.alphaV = a * 0.5 + 1e-4;
+            wp.alphaU = tex(a);
+            wp.alphaV = tex(a * 0.5 + 1e-4);
             bsdfs.push_back({"ward", std::make_shared<Ward>(wp)});
         }
     }
@@ -706,4 +707,44 @@ TEST_CASE("twosided mirrors the back side onto the front, roughness and lobes ar
     CHECK(Dielectric(DielectricParams{}).roughness(UV) == 0);
     CHECK(Dielectric(DielectricParams{}).eta()->interior == 1.5046);
     CHECK(!front->eta());
+}
+
+TEST_CASE("phong's exponent and ward's alphas read from textures at uv, as the constants there", "[bsdf]") {
+    // A checkerboard: value 10 at uv (0.1, 0.1) (color0), 200 at (0.6, 0.1) (color1); scaled down for ward.
+    const auto board = [](double a, double b) {
+        return std::make_shared<CheckerboardTexture>(Spectrum(a), Spectrum(b), Vec2(0, 0), Vec2(1, 1));
+    };
+    PhongParams textured;
+    textured.exponent = board(10, 200);
+    WardParams texturedWard;
+    texturedWard.alphaU = board(0.05, 0.4);
+    texturedWard.alphaV = board(0.3, 0.02);
+    for (const auto& [uv, n, au, av] :
+         {std::tuple{Vec2(0.1, 0.1), 10.0, 0.05, 0.3}, std::tuple{Vec2(0.6, 0.1), 200.0, 0.4, 0.02}}) {
+        PhongParams constant;
+        constant.exponent = tex(n);
+        WardParams constantWard;
+        constantWard.alphaU = tex(au);
+        constantWard.alphaV = tex(av);
+        const std::pair<std::shared_ptr<const Bsdf>, std::shared_ptr<const Bsdf>> pairs[] = {
+            {std::make_shared<Phong>(textured), std::make_shared<Phong>(constant)},
+            {std::make_shared<Ward>(texturedWard), std::make_shared<Ward>(constantWard)}};
+        for (const auto& [a, b] : pairs) {
+            CAPTURE(a->typeName(), uv.x);
+            CHECK(a->roughness(uv) == b->roughness(uv));
+            const Vec3 wi = dirFromAngles(35, 20);
+            for (int i = 0; i < 64; ++i) {
+                const Vec2 u((i % 8 + 0.5) / 8, (i / 8 + 0.5) / 8);
+                const auto sa = a->sample(wi, uv, Transport::Radiance, 0.3, u);
+                const auto sb = b->sample(wi, uv, Transport::Radiance, 0.3, u);
+                REQUIRE(bool(sa) == bool(sb));
+                if (!sa) continue;
+                CHECK(sa->wo == sb->wo);
+                CHECK(sa->pdf == sb->pdf);
+                CHECK(a->eval(wi, sa->wo, uv, Transport::Radiance) == b->eval(wi, sa->wo, uv, Transport::Radiance));
+            }
+        }
+    }
+    // The other square's exponent is another lobe: the texture is read, not its first value.
+    CHECK(Phong(textured).roughness({0.1, 0.1}) != Phong(textured).roughness({0.6, 0.1}));
 }

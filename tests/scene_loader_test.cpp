@@ -258,6 +258,17 @@ TEST_CASE("every BSDF kind builds from XML", "[loader]") {
     CHECK(s->bsdfs[2].bsdf->eta()->interior == Approx(1.33));
     CHECK(s->bsdfs[4].bsdf->hasGlossy());
     CHECK(s->bsdfs[4].bsdf->hasTransmission());
+    // Phong's exponent and ward's alphas as textures (checkerboard: color0 at uv (0.1, 0.1), color1 at (0.6, 0.1)).
+    const auto t = loadScene(sceneFile(dir, R"(
+        <bsdf type="phong"><texture type="checkerboard" name="exponent"><float name="color0" value="8"/>
+            <float name="color1" value="98"/></texture></bsdf>
+        <bsdf type="ward"><texture type="checkerboard" name="alpha"><float name="color0" value="0.3"/>
+            <float name="color1" value="0.05"/></texture><float name="alphaV" value="0.2"/></bsdf>)"),
+                             {}, UnknownProperties::Fail);
+    CHECK(t->bsdfs[0].bsdf->roughness({0.1, 0.1}) == Approx(std::sqrt(2.0 / 10)));
+    CHECK(t->bsdfs[0].bsdf->roughness({0.6, 0.1}) == Approx(std::sqrt(2.0 / 100)));
+    CHECK(t->bsdfs[1].bsdf->roughness({0.1, 0.1}) == Approx(0.2));
+    CHECK(t->bsdfs[1].bsdf->roughness({0.6, 0.1}) == Approx(0.05));
 }
 
 TEST_CASE("phong and ward reflectances summing above 1 are scaled down as in Mitsuba, and the loader says so",
@@ -379,6 +390,7 @@ TEST_CASE("bumpmap and the scale texture build from XML; a bumpmap inside anothe
         <bsdf type="twosided"><bsdf type="diffuse"/></bsdf></bsdf></shape>)"),
                              {}, UnknownProperties::Fail);
     CHECK(s->bsdfs.at(0).bsdf->typeName() == "bumpmap");
+    CHECK(describeBsdf(*s->bsdfs[0].bsdf) == "bumpmap(twosided(diffuse))");
     REQUIRE(s->shapes.at(0).bump);
     CHECK(s->shapes[0].bump->average().g == Approx(0.05));
     const std::string f = dir.file("scene.xml");

@@ -18,12 +18,12 @@ GlossyDiffuseBsdf::GlossyDiffuseBsdf(GlossyDiffuseParams params) : p_(std::move(
 
 Spectrum GlossyDiffuseBsdf::eval(const Vec3& wi, const Vec3& wo, const Vec2& uv, Transport) const {
     if (wi.z <= 0 || wo.z <= 0) return {};
-    return (p_.specularReflectance->eval(uv) * glossy(wi, wo) + p_.diffuseReflectance->eval(uv) * InvPi) * scale_;
+    return (p_.specularReflectance->eval(uv) * glossy(wi, wo, uv) + p_.diffuseReflectance->eval(uv) * InvPi) * scale_;
 }
 
-double GlossyDiffuseBsdf::pdf(const Vec3& wi, const Vec3& wo, const Vec2&) const {
+double GlossyDiffuseBsdf::pdf(const Vec3& wi, const Vec3& wo, const Vec2& uv) const {
     if (wi.z <= 0 || wo.z <= 0) return 0;
-    return glossyWeight_ * glossyPdf(wi, wo) + (1 - glossyWeight_) * warp::squareToCosineHemispherePdf(wo);
+    return glossyWeight_ * glossyPdf(wi, wo, uv) + (1 - glossyWeight_) * warp::squareToCosineHemispherePdf(wo);
 }
 
 std::optional<BsdfSample> GlossyDiffuseBsdf::sample(const Vec3& wi, const Vec2& uv, Transport mode, double uLobe,
@@ -31,7 +31,7 @@ std::optional<BsdfSample> GlossyDiffuseBsdf::sample(const Vec3& wi, const Vec2& 
     if (wi.z <= 0) return std::nullopt;
     BsdfSample s;
     if (uLobe < glossyWeight_) {
-        const auto wo = sampleGlossy(wi, u);
+        const auto wo = sampleGlossy(wi, uv, u);
         if (!wo || wo->z <= 0) return std::nullopt;
         s.wo = *wo;
         s.lobe = LobeGlossy | LobeReflection;

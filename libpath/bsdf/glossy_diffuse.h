@@ -33,12 +33,13 @@ public:
 
 protected:
     explicit GlossyDiffuseBsdf(GlossyDiffuseParams params);
-    // The glossy lobe per unit specular reflectance, f_g(wi, wo), for wi and wo above the surface.
-    [[nodiscard]] virtual double glossy(const Vec3& wi, const Vec3& wo) const = 0;
+    // The glossy lobe per unit specular reflectance, f_g(wi, wo), for wi and wo above the surface; uv selects
+    // the lobe's texture values (phong's exponent, ward's alphas).
+    [[nodiscard]] virtual double glossy(const Vec3& wi, const Vec3& wo, const Vec2& uv) const = 0;
     // The solid-angle density with which sampleGlossy produces wo.
-    [[nodiscard]] virtual double glossyPdf(const Vec3& wi, const Vec3& wo) const = 0;
+    [[nodiscard]] virtual double glossyPdf(const Vec3& wi, const Vec3& wo, const Vec2& uv) const = 0;
     // A direction from the glossy lobe's sampler (possibly below the surface: then the sample is lost).
-    [[nodiscard]] virtual std::optional<Vec3> sampleGlossy(const Vec3& wi, const Vec2& u) const = 0;
+    [[nodiscard]] virtual std::optional<Vec3> sampleGlossy(const Vec3& wi, const Vec2& uv, const Vec2& u) const = 0;
 
 private:
     GlossyDiffuseParams p_;

@@ -10,21 +10,31 @@
 namespace lt {
 
 Ward::Ward(WardParams params) : GlossyDiffuseBsdf(params.reflectances), p_(params) {
-    if (!(p_.alphaU > 0) || !(p_.alphaV > 0) || !std::isfinite(p_.alphaU) || !std::isfinite(p_.alphaV))
-        throw Error("ward: alpha must be positive and finite");
+    if (!p_.alphaU || !p_.alphaV) throw Error("ward: null alpha texture");
+    for (const auto* t : {p_.alphaU.get(), p_.alphaV.get()})
+        if (!t->maximum().isFinite() || (t->isConstant() && !(t->average().average() > 0)))
+            throw Error("ward: alpha must be positive and finite");
 }
 
-double Ward::roughness(const Vec2&) const { return std::min(p_.alphaU, p_.alphaV); }
+Vec2 Ward::alphas(const Vec2& uv) const {
+    return {std::max(1e-4, p_.alphaU->eval(uv).average()), std::max(1e-4, p_.alphaV->eval(uv).average())};
+}
 
-double Ward::slopeFalloff(const Vec3& h) const {
-    const double x = h.x / p_.alphaU, y = h.y / p_.alphaV;
+double Ward::roughness(const Vec2& uv) const {
+    const Vec2 a = alphas(uv);
+    return std::min(a.x, a.y);
+}
+
+double Ward::slopeFalloff(const Vec3& h, const Vec2& alpha) {
+    const double x = h.x / alpha.x, y = h.y / alpha.y;
     return std::exp(-(x * x + y * y) / (h.z * h.z));
 }
 
-double Ward::glossy(const Vec3& wi, const Vec3& wo) const {
+double Ward::glossy(const Vec3& wi, const Vec3& wo, const Vec2& uv) const {
     const Vec3 h = wi + wo;
     if (!(h.z > 0)) return 0;
-    const double a = p_.alphaU * p_.alphaV;
+    const Vec2 alpha = alphas(uv);
+    const double a = alpha.x * alpha.y;
     double norm = 0;
     switch (p_.variant) {
     case WardVariant::Ward:
@@ -37,24 +47,26 @@ double Ward::glossy(const Vec3& wi, const Vec3& wo) const {
         norm = dot(h, h) / (Pi * a * std::pow(h.z, 4));
         break;
     }
-    const double f = norm * slopeFalloff(h);
+    const double f = norm * slopeFalloff(h, alpha);
     return f > 1e-10 ? f : 0.0;
 }
 
-double Ward::glossyPdf(const Vec3& wi, const Vec3& wo) const {
+double Ward::glossyPdf(const Vec3& wi, const Vec3& wo, const Vec2& uv) const {
     const Vec3 h = normalize(wi + wo);
     if (!(h.z > 0)) return 0;
-    const double pdfH = slopeFalloff(h) / (Pi * p_.alphaU * p_.alphaV * h.z * h.z * h.z);
+    const Vec2 alpha = alphas(uv);
+    const double pdfH = slopeFalloff(h, alpha) / (Pi * alpha.x * alpha.y * h.z * h.z * h.z);
     return pdfH / (4 * dot(wi, h));
 }
 
-std::optional<Vec3> Ward::sampleGlossy(const Vec3& wi, const Vec2& u) const {
+std::optional<Vec3> Ward::sampleGlossy(const Vec3& wi, const Vec2& uv, const Vec2& u) const {
     if (!(u.x > 0)) return std::nullopt;
+    const Vec2 alpha = alphas(uv);
     // tan phi_h = (alpha_v / alpha_u) tan(2 pi u_y), in the quadrant of 2 pi u_y; then tan^2 theta_h from
     // the exponential's inverse cumulative distribution at that azimuth.
-    const double phi = std::atan2(p_.alphaV * std::sin(TwoPi * u.y), p_.alphaU * std::cos(TwoPi * u.y));
+    const double phi = std::atan2(alpha.y * std::sin(TwoPi * u.y), alpha.x * std::cos(TwoPi * u.y));
     const double c = std::cos(phi), s = std::sin(phi);
-    const double tan2 = -std::log(u.x) / (c * c / (p_.alphaU * p_.alphaU) + s * s / (p_.alphaV * p_.alphaV));
+    const double tan2 = -std::log(u.x) / (c * c / (alpha.x * alpha.x) + s * s / (alpha.y * alpha.y));
     const double cosTheta = 1 / std::sqrt(1 + tan2), sinTheta = std::sqrt(tan2) * cosTheta;
     const Vec3 h(sinTheta * c, sinTheta * s, cosTheta);
     return reflect(wi, h);

@@ -290,7 +290,7 @@ std::shared_ptr<const Bsdf> PluginFactory::bsdf(const SceneObject& o) {
             finish(o);
         } else if (o.type == "phong") {
             PhongParams p;
-            p.exponent = o.getFloat("exponent", p.exponent);
+            p.exponent = textureParam(o, "exponent", Spectrum(30.0));
             p.reflectances = glossyDiffuse(o);
             const auto phong = std::make_shared<Phong>(p);
             noteEnergyScale(o, *phong);
@@ -307,10 +307,11 @@ std::shared_ptr<const Bsdf> PluginFactory::bsdf(const SceneObject& o) {
                 p.variant = WardVariant::Balanced;
             else
                 o.fail("variant must be ward, ward-duer or balanced, not '" + variant + "'");
-            // Mitsuba's ward: alphaU and alphaV each default to alpha (0.1).
-            const double alpha = o.getFloat("alpha", 0.1);
-            p.alphaU = o.getFloat("alphaU", alpha);
-            p.alphaV = o.getFloat("alphaV", alpha);
+            // Mitsuba's ward: alphaU and alphaV each default to alpha (0.1); any of the three may be a texture.
+            const auto alpha = textureParam(o, "alpha", Spectrum(0.1));
+            const auto given = [&](const char* key) { return o.has(key) || o.namedChild(key) != nullptr; };
+            p.alphaU = given("alphaU") ? textureParam(o, "alphaU", Spectrum(0.1)) : alpha;
+            p.alphaV = given("alphaV") ? textureParam(o, "alphaV", Spectrum(0.1)) : alpha;
             p.reflectances = glossyDiffuse(o);
             const auto ward = std::make_shared<Ward>(p);
             noteEnergyScale(o, *ward);

@@ -5,6 +5,7 @@
 #include <set>
 
 #include "bsdf/blend.h"
+#include "bsdf/bump_mapped.h"
 #include "bsdf/mask.h"
 #include "bsdf/twosided.h"
 
@@ -13,6 +14,7 @@ namespace lt {
 std::string describeBsdf(const Bsdf& bsdf) {
     if (const auto* t = dynamic_cast<const TwoSided*>(&bsdf)) return "twosided(" + describeBsdf(t->frontBsdf()) + ")";
     if (const auto* m = dynamic_cast<const MaskBsdf*>(&bsdf)) return "mask(" + describeBsdf(m->nested()) + ")";
+    if (const auto* b = dynamic_cast<const BumpMappedBsdf*>(&bsdf)) return "bumpmap(" + describeBsdf(b->nested()) + ")";
     if (const auto* b = dynamic_cast<const BlendBsdf*>(&bsdf))
         return "blendbsdf(" + describeBsdf(b->first()) + ", " + describeBsdf(b->second()) + ")";
     return bsdf.typeName();

@@ -17,6 +17,7 @@
 #include "path/vertex.h"
 #include "scene/scene.h"
 #include "test_shapes.h"
+#include "test_util.h"
 
 using namespace lt;
 using test::box;
@@ -689,4 +690,22 @@ TEST_CASE("T-ME-5: 1e5 walks through a glass sphere and back, fewer than 1 % not
                          << " of them not reversible");
     CHECK(stats.converged > stats.attempted / 2);
     CHECK(notReversible < int(stats.converged / 100));
+}
+
+TEST_CASE("no manifold walk takes a bump-mapped vertex (its normal's derivatives are the smooth surface's)",
+          "[manifold][bumpmap]") {
+    test::TempDir dir;
+    test::writeRgbExr(dir.file("ramp.exr"), 2, 1, {0, 0, 0, 1, 1, 1});
+    const auto scene = loadScene(dir.write("bumped-mirror.xml", R"(<scene version="0.6.0">
+  <shape type="rectangle"><bsdf type="bumpmap"><texture type="bitmap"><string name="filename" value="ramp.exr"/></texture>
+    <bsdf type="conductor"><string name="material" value="none"/></bsdf></bsdf></shape>
+  <shape type="rectangle"><transform name="toWorld"><translate z="-1"/></transform>
+    <bsdf type="conductor"><string name="material" value="none"/></bsdf></shape>
+</scene>)"));
+    const SurfaceInteraction bumped = scene->shapes[0].surfaceAt(0, {0.2, 0.3});
+    const SurfaceInteraction smooth = scene->shapes[1].surfaceAt(0, {0.2, 0.3});
+    CHECK(bumped.bumped);
+    CHECK_FALSE(smooth.bumped);
+    CHECK_FALSE(manifoldVertex(bumped));
+    CHECK(manifoldVertex(smooth));
 }

@@ -18,7 +18,7 @@ double cosToMirror(const Vec3& wi, const Vec3& wo) { return -wi.x * wo.x - wi.y 
 Phong::Phong(PhongParams params) : GlossyDiffuseBsdf(params.reflectances), exponent_(std::move(params.exponent)) {
     if (!exponent_) throw Error("phong: null exponent texture");
     const Spectrum top = exponent_->maximum();
-    if (!top.isFinite() || (exponent_->isConstant() && !(exponent_->average().average() >= 0)))
+    if (!top.isFinite() || (exponent_->isConstant() && !(exponent_->scalar({}) >= 0)))
         throw Error("phong: exponent must be finite and non-negative");
 }
 

@@ -29,7 +29,7 @@ private:
     [[nodiscard]] double glossyPdf(const Vec3& wi, const Vec3& wo, const Vec2& uv) const override;
     [[nodiscard]] std::optional<Vec3> sampleGlossy(const Vec3& wi, const Vec2& uv, const Vec2& u) const override;
     // n at uv (negative texture values read as 0).
-    [[nodiscard]] double exponent(const Vec2& uv) const { return std::max(0.0, exponent_->eval(uv).average()); }
+    [[nodiscard]] double exponent(const Vec2& uv) const { return std::max(0.0, exponent_->scalar(uv)); }
     std::shared_ptr<const Texture> exponent_;
 };
 

@@ -12,12 +12,12 @@ namespace lt {
 Ward::Ward(WardParams params) : GlossyDiffuseBsdf(params.reflectances), p_(params) {
     if (!p_.alphaU || !p_.alphaV) throw Error("ward: null alpha texture");
     for (const auto* t : {p_.alphaU.get(), p_.alphaV.get()})
-        if (!t->maximum().isFinite() || (t->isConstant() && !(t->average().average() > 0)))
+        if (!t->maximum().isFinite() || (t->isConstant() && !(t->scalar({}) > 0)))
             throw Error("ward: alpha must be positive and finite");
 }
 
 Vec2 Ward::alphas(const Vec2& uv) const {
-    return {std::max(1e-4, p_.alphaU->eval(uv).average()), std::max(1e-4, p_.alphaV->eval(uv).average())};
+    return {std::max(1e-4, p_.alphaU->scalar(uv)), std::max(1e-4, p_.alphaV->scalar(uv))};
 }
 
 double Ward::roughness(const Vec2& uv) const {

@@ -1,6 +1,7 @@
 #include "gradient/gradient_path_tracer.h"
 
 #include "math/error.h"
+#include "sampling/lens_sample.h"
 #include "scene/scene.h"
 
 namespace lt {
@@ -19,7 +20,7 @@ GradientPathTracer::GradientPathTracer(const Scene& scene, GradientSettings sett
 
 Spectrum GradientPathTracer::estimate(const Vec2& raster, SampleGenerator& sampler, PixelSample& out) const {
     const PerspectiveCamera& camera = scene_.camera;
-    const Vec3 lens = camera.hasAperture() ? camera.sampleLens(sampler.next2D()) : camera.position();
+    const Vec3 lens = sampleLensPoint(camera, sampler);
     const BasePath base = traceBasePath(scene_, settings_.paths, settings_.shiftThreshold, raster, lens,
                                         primaryVertex(scene_, raster, lens), sampler);
     ++stats_.basePaths;

@@ -4,6 +4,7 @@
 
 #include "math/error.h"
 #include "math/rng.h"
+#include "sampling/lens_sample.h"
 #include "sampling/render.h"
 #include "scene/scene.h"
 
@@ -74,7 +75,7 @@ void PathReusing::estimateTile(const TileSample& tile) const {
     const Vec2 offset = Vec2(0.5, 0.5) + filter_.sample(tileSampler.next2D());
     // And one lens point (a thin lens's; the pinhole otherwise): every shift keeps its base's.
     const PerspectiveCamera& camera = scene_.camera;
-    const Vec3 lens = camera.hasAperture() ? camera.sampleLens(tileSampler.next2D()) : camera.position();
+    const Vec3 lens = sampleLensPoint(camera, tileSampler);
 
     std::vector<std::optional<BaseVertex>> primary(pixels);
     for (size_t m = 0; m < pixels; ++m)

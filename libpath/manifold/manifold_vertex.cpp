@@ -7,6 +7,10 @@
 namespace lt {
 
 std::optional<ManifoldVertex> manifoldVertex(const SurfaceInteraction& si) {
+    // A bump map's normal carries the smooth surface's derivatives (scene/bump_frame.h): the determinants a
+    // walk's T(x -> y) rests on would be wrong. No chain holds such a vertex, in x or in y, so the walks that
+    // would need one fail both ways and the chains stay unbiased (other mutations move those paths).
+    if (si.bumped) return std::nullopt;
     // Gram-Schmidt: u = a dp/du, v = (dp/dv - (dp/dv.u) a dp/du) / |...|; the normal derivatives follow
     // the same linear map (ME footnote 2).
     const double lu = length(si.dpdu);

@@ -70,7 +70,8 @@ struct ManifoldVertex {
 };
 
 // A surface point (as Shape::surfaceAt gives it) with its chart orthonormalized (the convention
-// above). Nothing when dp/du and dp/dv are degenerate (parallel or zero).
+// above). Nothing when dp/du and dp/dv are degenerate (parallel or zero), or at a bump-mapped point
+// (scene/bump_frame.h: its normal derivatives are not the bumped normal's).
 [[nodiscard]] std::optional<ManifoldVertex> manifoldVertex(const SurfaceInteraction& si);
 // A point without surface (pinhole, point light): position only, with the chart of the plane
 // perpendicular to `axis` so that chart coordinates exist; n = axis, ng = 0, no curvature.

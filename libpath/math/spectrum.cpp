@@ -22,6 +22,14 @@ Vec3 cieXyz(double nm) {
     const double z = 1.217 * gaussianPiecewise(nm, 437.0, 11.8, 36.0) + 0.681 * gaussianPiecewise(nm, 459.0, 26.0, 13.8);
     return {x, y, z};
 }
+
+// The sum over 360-830 nm, 1 nm apart, of the colour matching functions times the spectrum.
+Vec3 integrateXyz(const std::function<double(double)>& value) {
+    Vec3 xyz;
+    for (double nm = 360.0; nm <= 830.0; nm += 1.0)
+        xyz += cieXyz(nm) * value(nm);
+    return xyz;
+}
 } // namespace
 
 double interpolateSamples(std::span<const std::pair<double, double>> s, double nm, BeyondSamples beyond) {
@@ -38,15 +46,8 @@ double interpolateSamples(std::span<const std::pair<double, double>> s, double n
 }
 
 Vec3 spectrumToXyz(const std::function<double(double)>& value) {
-    static const double yIntegral = [] {
-        double y = 0;
-        for (double nm = 360.0; nm <= 830.0; nm += 1.0)
-            y += cieXyz(nm).y;
-        return y;
-    }();
-    Vec3 xyz;
-    for (double nm = 360.0; nm <= 830.0; nm += 1.0) xyz += cieXyz(nm) * value(nm);
-    return xyz / yIntegral;
+    static const double yIntegral = integrateXyz([](double) { return 1.0; }).y;
+    return integrateXyz(value) / yIntegral;
 }
 
 Spectrum xyzToRgb(const Vec3& c) {
@@ -59,8 +60,9 @@ Spectrum spectrumToRgb(std::span<const std::pair<double, double>> samples) {
     for (size_t i = 1; i < samples.size(); ++i)
         if (!(samples[i].first > samples[i - 1].first))
             throw Error("spectrum wavelengths must be strictly ascending");
-    static const Spectrum white = xyzToRgb(spectrumToXyz([](double) { return 1.0; }));
-    return xyzToRgb(spectrumToXyz([&](double nm) { return interpolateSamples(samples, nm, BeyondSamples::Clamp); })) /
+    // White balance on the raw integrals (the normalization of spectrumToXyz would cancel).
+    static const Spectrum white = xyzToRgb(integrateXyz([](double) { return 1.0; }));
+    return xyzToRgb(integrateXyz([&](double nm) { return interpolateSamples(samples, nm, BeyondSamples::Clamp); })) /
            white;
 }
 

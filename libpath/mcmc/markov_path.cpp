@@ -49,8 +49,10 @@ std::optional<RejectCause> evaluatePath(const Scene& scene, MarkovPath& path, co
     if (!(cosCam > 0)) return RejectCause::LeftImage;
     if (!v[k - 1].infinite && length(v[k - 1].si.p - lens) * cosCam < cam.nearClip()) return RejectCause::LeftImage;
 
-    // A point or spot light seen by the pinhole directly or through specular vertices only: every vertex
-    // is fixed by the others, a path space of measure zero that no pixel integral sees.
+    // A point or spot light seen by the camera directly or through specular vertices only: every vertex is
+    // fixed by the others (through a pinhole), a path space of measure zero; through a thin lens it is not,
+    // but BDPT does not sample it either (no s = 1, t = 1 strategy, as pbrt-v3): both leave it out, so the
+    // chains and their seeds agree (no bokeh of point lights).
     if (v[0].isDeltaLight() && std::all_of(v.begin() + 1, v.end() - 1, isSpecular))
         return RejectCause::ZeroContribution;
     Spectrum f = v[0].Le(scene, v[1]);

@@ -6,6 +6,7 @@
 #include "bsdf/shading_correction.h"
 #include "math/error.h"
 #include "path/scatter.h"
+#include "sampling/lens_sample.h"
 #include "sampling/mis.h"
 
 namespace lt {
@@ -128,8 +129,7 @@ void Bdpt::cameraSubpath(const Vec2& raster, SampleGenerator& sampler, std::vect
     path.clear();
     sampler.startStream(SampleGenerator::CameraStream);
     const PerspectiveCamera& camera = scene_.camera;
-    // A lens point (two dimensions only for a thin lens: a pinhole's samples stay as they were).
-    const Vec3 lens = camera.hasAperture() ? camera.sampleLens(sampler.next2D()) : camera.position();
+    const Vec3 lens = sampleLensPoint(camera, sampler);
     const Ray ray = camera.generateRay(raster, lens);
     PathVertex cam;
     cam.type = VertexType::Camera;
@@ -185,11 +185,8 @@ Spectrum Bdpt::connect(std::vector<PathVertex>& light, std::vector<PathVertex>& 
         const PathVertex& qs = light[size_t(s) - 1];
         if (!qs.isConnectible()) return {};
         const PerspectiveCamera& cam = scene_.camera;
-        Vec3 lens = cam.position();
-        if (cam.hasAperture()) {
-            sampler.startStream(SampleGenerator::ConnectStream);
-            lens = cam.sampleLens(sampler.next2D());
-        }
+        if (cam.hasAperture()) sampler.startStream(SampleGenerator::ConnectStream);
+        const Vec3 lens = sampleLensPoint(cam, sampler);
         const Vec3 d = qs.si.p - lens;
         const double dist = length(d);
         const Vec3 dir = d / dist;

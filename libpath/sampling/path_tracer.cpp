@@ -3,6 +3,7 @@
 #include "bsdf/shading_correction.h"
 #include "math/error.h"
 #include "path/scatter.h"
+#include "sampling/lens_sample.h"
 
 namespace lt {
 
@@ -13,8 +14,7 @@ PathTracer::PathTracer(const Scene& scene, PathSettings settings) : scene_(scene
 Spectrum PathTracer::sample(const Vec2& raster, SampleGenerator& sampler, SampleHealth& health) const {
     sampler.startStream(SampleGenerator::CameraStream);
     const PerspectiveCamera& camera = scene_.camera;
-    Ray ray =
-        camera.generateRay(raster, camera.hasAperture() ? camera.sampleLens(sampler.next2D()) : camera.position());
+    Ray ray = camera.generateRay(raster, sampleLensPoint(camera, sampler));
     Spectrum L, beta(1.0);
     // The previous scattering: where it happened, its solid-angle density, and whether it was a delta
     // lobe (then an emitter hit cannot have been sampled by next-event estimation: weight 1).

@@ -14,6 +14,7 @@ void applyBumpMap(SurfaceInteraction& si, const Texture& displacement) {
     bumped = bumped / len;
     if (dot(bumped, si.ng) < 0) bumped = -bumped;
     si.shading = Frame::fromNormalTangent(bumped, dpdu);
+    si.bumped = true;
 }
 
 } // namespace lt

@@ -5,8 +5,9 @@
 // geometric normal's side. d is the luminance of the texture; its gradient is the texture's (Texture::
 // luminanceGradient).
 //
-// The normal's derivatives (dndu, dndv, which the manifold walks read) stay those of the smooth surface:
-// specular chains across a bump-mapped surface walk with the unbumped curvature.
+// The normal's derivatives (dndu, dndv) stay those of the smooth surface, and the point is marked `bumped`:
+// the manifold walks' transition densities need the bumped normal's true derivatives (the displacement's
+// second derivatives), so no walk takes a bump-mapped vertex (manifold/manifold_vertex.h).
 #pragma once
 
 #include "scene/interaction.h"

@@ -22,6 +22,7 @@ struct SurfaceInteraction {
     Vec2 coords;            // barycentrics (b1, b2) for triangles; uv for analytic shapes
     double t = 0;           // ray distance when produced by an intersection
     double magnitude = 0;   // largest absolute coordinate of the primitive (bounds Embree's float error)
+    bool bumped = false;    // the shading frame is a bump map's; dndu, dndv are still the smooth surface's
 
     [[nodiscard]] RayEndpoint endpoint() const { return {p, ng, magnitude}; }
 };

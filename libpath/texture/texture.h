@@ -21,6 +21,12 @@ public:
     // Per-channel maximum over the domain: Mitsuba's energy-conservation check of phong and ward reads it.
     [[nodiscard]] virtual Spectrum maximum() const = 0;
     [[nodiscard]] virtual bool isConstant() const { return false; }
+    // One number at uv, where a parameter is a scalar (phong's exponent, ward's alphas): the mean of the
+    // channels (Mitsuba's eval(its).average()), and a grey value itself, exactly.
+    [[nodiscard]] double scalar(const Vec2& uv) const {
+        const Spectrum v = eval(uv);
+        return v.r == v.g && v.g == v.b ? v.r : v.average();
+    }
     // The gradient of the luminance in uv (a bump map's displacement slope): central differences of eval
     // 1e-4 apart in u and in v, which for a bilinear bitmap is its exact slope away from texel boundaries.
     [[nodiscard]] virtual Vec2 luminanceGradient(const Vec2& uv) const;
@@ -46,7 +52,15 @@ public:
         : nested_(std::move(nested)), scale_(scale) {}
     [[nodiscard]] Spectrum eval(const Vec2& uv) const override { return nested_->eval(uv) * scale_; }
     [[nodiscard]] Spectrum average() const override { return nested_->average() * scale_; }
-    [[nodiscard]] Spectrum maximum() const override { return max(nested_->maximum() * scale_, Spectrum(0.0)); }
+    // An upper bound where a channel's scale is negative (|scale| times the nested maximum; Texture has no
+    // minimum), exact otherwise.
+    [[nodiscard]] Spectrum maximum() const override {
+        const Spectrum m = nested_->maximum();
+        Spectrum out;
+        for (int c = 0; c < 3; ++c)
+            out[c] = scale_[c] >= 0 ? m[c] * scale_[c] : std::abs(m[c] * scale_[c]);
+        return out;
+    }
     [[nodiscard]] bool isConstant() const override { return nested_->isConstant(); }
 
 private:

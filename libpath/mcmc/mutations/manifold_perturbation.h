@@ -51,7 +51,8 @@
 // Known limit: walks through held glossy vertices on veach-bidir's curved lamp shade (a triangle mesh)
 // come back less often than delta chains (8 % of walks not reversible against 2 %): those proposals are
 // rejected, not biased; the cause is not settled (a frame field independent of the triangles' uv charts
-// did not change it). Not built yet: the aperture's position (lt's camera is a pinhole).
+// did not change it). Not built yet: ME's move of the camera vertex across a thin lens's aperture (the
+// perturbation keeps the lens point; the bidirectional mutation and the lens perturbation move it).
 #pragma once
 
 #include <atomic>

@@ -17,8 +17,9 @@ Vec3 edgeDirection(const std::vector<PathVertex>& v, size_t i) { return v[i + 1]
 
 std::optional<PortalCrossing> portalCrossing(const Scene& scene, const std::vector<PathVertex>& v) {
     if (!scene.hasPortals() || v.size() < 3) return std::nullopt;
-    // Edges from the sensor toward the light, the camera's own edge (i = k - 1) left out: a pinhole is never
-    // hit by a ray from the portal, nor is a point light or a directional light's one direction (i = 0).
+    // Edges from the sensor toward the light, the camera's own edge (i = k - 1) left out: the camera vertex is
+    // held (a pinhole, or a lens point no ray from the portal is aimed at), as are a point light and a
+    // directional light's one direction (i = 0).
     // On each edge, the crossing nearest its eye-side end, on the segment's own line (a shadow ray's offset
     // ends would tilt it and move the crossing by their offset, far more than the pivot's tolerance) with
     // both ends cut by a relative 1e-6, so a vertex never crosses at its own position.

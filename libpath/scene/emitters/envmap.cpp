@@ -90,8 +90,8 @@ public:
     }
 
     [[nodiscard]] Spectrum evalEnvironment(const Vec3& dir) const override {
-        const Vec2 uv = toImage(dir);
-        return texel(column(uv.x), row(uv.y)) * scale_;
+        const auto [x, y] = latLongTexel(normalize(toLocal_.vector(dir)), width_, height_);
+        return texel(x, y) * scale_;
     }
 
     // Exact for the piecewise-constant radiance: pi r^2 times the integral of L over the sphere.
@@ -99,13 +99,10 @@ public:
 
 private:
     [[nodiscard]] const Spectrum& texel(int x, int y) const { return pixels_[size_t(y) * width_ + x]; }
-    [[nodiscard]] int column(double u) const { return std::clamp(int(u * width_), 0, width_ - 1); }
-    [[nodiscard]] int row(double t) const { return std::clamp(int(t * height_), 0, height_ - 1); }
 
     // World direction toward the sky -> (u, t) in [0,1]^2.
     [[nodiscard]] Vec2 toImage(const Vec3& dirWorld) const {
-        const SkyAngles a = skyAngles(normalize(toLocal_.vector(dirWorld)));
-        return {a.azimuth * InvTwoPi, a.zenith * InvPi};
+        return latLongCoordinates(normalize(toLocal_.vector(dirWorld)));
     }
 
     // A world direction toward the sky, by the image distribution.

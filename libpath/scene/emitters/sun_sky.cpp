@@ -70,14 +70,14 @@ void rasterizeSun(const DaylightSettings& s, LatLongImage& map) {
     const double half = SunAngularRadius * s.sunRadiusScale / 2;
     const double oneMinusCos = 2 * std::sin(half) * std::sin(half);
     const double texels = double(map.width) * map.height;
-    const size_t n = size_t(std::max(100.0, texels * 0.5 * oneMinusCos * 1000));
+    // Mitsuba's count, capped where a huge map and disk would take minutes (and outrun the 32-bit radical inverse).
+    const size_t n = size_t(std::clamp(texels * 0.5 * oneMinusCos * 1000, 100.0, double(1 << 24)));
     const Spectrum share = sunIrradiance(s) / double(n);
     const Frame frame = Frame::fromNormal(skyDirection(sunSeen(s)));
     for (size_t i = 0; i < n; ++i) {
         const Vec2 u((i + 0.5) / double(n), radicalInverse2(uint32_t(i)));
-        const SkyAngles a = skyAngles(normalize(frame.toWorld(warp::squareToUniformConeNarrow(u, oneMinusCos))));
-        const int x = std::clamp(int(a.azimuth / TwoPi * map.width), 0, map.width - 1);
-        const int y = std::clamp(int(a.zenith / Pi * map.height), 0, map.height - 1);
+        const auto [x, y] = latLongTexel(normalize(frame.toWorld(warp::squareToUniformConeNarrow(u, oneMinusCos))),
+                                         map.width, map.height);
         const double texelSolidAngle =
             TwoPi / map.width * (std::cos(Pi * y / map.height) - std::cos(Pi * (y + 1) / map.height));
         map.pixels[size_t(y) * map.width + x] += share / texelSolidAngle;

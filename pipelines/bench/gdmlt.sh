@@ -7,11 +7,9 @@
 # reference made here first when OUT has none: REF_TIME seconds, default 900). SCENES="veach-bidir" runs one.
 #   [REF_TIME=S] pipelines/bench/gdmlt.sh [SECONDS] [OUT]   (default 60 s, bench-gdmlt)
 set -euo pipefail
-root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+source "$(dirname "${BASH_SOURCE[0]}")/../lib/bench.bash" lt-gradient
 seconds="${1:-60}"
 out="${2:-bench-gdmlt}"
-bin="${BUILD_DIR:-$root/build}/bin"
-[ -x "$bin/lt-gradient" ] || { echo "build first: cmake -S $root -B $root/build && cmake --build $root/build" >&2; exit 1; }
 mkdir -p "$out"
 methods="mlt mlt-gd mlt-gd-l1 gdmlt gdmlt-l1 gpt gdpr"
 

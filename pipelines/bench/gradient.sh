@@ -8,11 +8,9 @@
 # SCENES="veach-mis door-ajar" runs only those.
 #   [REF_TIME=S] [TILE_SECONDS=S] pipelines/bench/gradient.sh [SECONDS] [OUT]   (default 120 s, bench-gradient)
 set -euo pipefail
-root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+source "$(dirname "${BASH_SOURCE[0]}")/../lib/bench.bash" lt-gradient
 seconds="${1:-120}"
 out="${2:-bench-gradient}"
-bin="${BUILD_DIR:-$root/build}/bin"
-[ -x "$bin/lt-gradient" ] || { echo "build first: cmake -S $root -B $root/build && cmake --build $root/build" >&2; exit 1; }
 mkdir -p "$out"
 methods="pt bdpt gpt gpt-l1 gdpr gdpr-l1"
 

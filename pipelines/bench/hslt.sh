@@ -12,11 +12,9 @@
 # (bidirectional + hslt), in OUT/auto/SCENE.
 #   AUTO=1 [SCENES=...] pipelines/bench/hslt.sh 120 bench-hslt
 set -euo pipefail
-root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+source "$(dirname "${BASH_SOURCE[0]}")/../lib/bench.bash" lt-mutate
 seconds="${1:-60}"
 out="${2:-bench-hslt}"
-bin="${BUILD_DIR:-$root/build}/bin"
-[ -x "$bin/lt-mutate" ] || { echo "build first: cmake -S $root -B $root/build && cmake --build $root/build" >&2; exit 1; }
 mkdir -p "$out"
 methods="bdpt pssmlt mlt memlt hslt"
 

@@ -8,11 +8,9 @@
 # that one (any of veach-bidir caustic-mirror glossy-caustic).
 #   [REF_TIME=S] pipelines/bench/memlt.sh [SECONDS] [OUT]   (default 60 s per method, OUT bench-memlt)
 set -euo pipefail
-root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+source "$(dirname "${BASH_SOURCE[0]}")/../lib/bench.bash" lt-mutate
 seconds="${1:-60}"
 out="${2:-bench-memlt}"
-bin="${BUILD_DIR:-$root/build}/bin"
-[ -x "$bin/lt-mutate" ] || { echo "build first: cmake -S $root -B $root/build && cmake --build $root/build" >&2; exit 1; }
 mkdir -p "$out"
 methods="bdpt pssmlt mlt memlt"
 

@@ -5,14 +5,12 @@
 #   [SPACES="path primary multiplexed"] pipelines/bench/mutate.sh [SECONDS] [SCENE...]
 #   (default: 20 s, all three spaces; scenes/cornell-box and scenes/veach-bidir)
 set -euo pipefail
-root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+source "$(dirname "${BASH_SOURCE[0]}")/../lib/bench.bash" lt-mutate
 seconds="${1:-20}"; shift || true
 scenes=("$@")
 [ ${#scenes[@]} -gt 0 ] || scenes=("$root/scenes/cornell-box/scene.xml" "$root/scenes/veach-bidir/scene.xml")
-bin="${BUILD_DIR:-$root/build}/bin"
 out="$(mktemp -d)"
 trap 'rm -rf "$out"' EXIT
-[ -x "$bin/lt-mutate" ] || { echo "build first: cmake -S $root -B $root/build && cmake --build $root/build" >&2; exit 1; }
 
 echo "$seconds s per run (start-up included), scene resolution, $(nproc) cores"
 for scene in "${scenes[@]}"; do

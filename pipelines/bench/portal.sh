@@ -12,11 +12,9 @@
 #   [REF_TIME=S] [SCENES="window-room portal-room"] [METHODS="mlt-lens portal"] pipelines/bench/portal.sh [SECONDS] [OUT]
 #   (default 60 s, bench-portal; SCENES="" skips the comparison, TRACE=0 the trace plot)
 set -euo pipefail
-root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+source "$(dirname "${BASH_SOURCE[0]}")/../lib/bench.bash" lt-mutate
 seconds="${1:-60}"
 out="${2:-bench-portal}"
-bin="${BUILD_DIR:-$root/build}/bin"
-[ -x "$bin/lt-mutate" ] || { echo "build first: cmake -S $root -B $root/build && cmake --build $root/build" >&2; exit 1; }
 mkdir -p "$out"
 methods="${METHODS:-bdpt pssmlt mlt-lens portal memlt}"
 

@@ -4,14 +4,12 @@
 # ray rate of the same scene as the bound. Run it on an otherwise idle machine.
 #   pipelines/bench/seed.sh [SCENE] [SPP]     (default: scenes/cornell-box/scene.xml, 16 spp)
 set -euo pipefail
-root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+source "$(dirname "${BASH_SOURCE[0]}")/../lib/bench.bash" lt-seed
 scene="${1:-$root/scenes/cornell-box/scene.xml}"
 spp="${2:-16}"
-bin="${BUILD_DIR:-$root/build}/bin"
 out="$(mktemp -d)"
 trap 'rm -rf "$out"' EXIT
 
-[ -x "$bin/lt-seed" ] || { echo "build first: cmake -S $root -B $root/build && cmake --build $root/build" >&2; exit 1; }
 
 echo "scene: $scene, $spp spp at the scene's resolution, $(nproc) cores"
 printf '%-6s %-8s %10s %12s %12s %12s\n' method threads seconds "ksamples/s" "Mrays/s" "peak MB"

@@ -5,12 +5,10 @@
 # otherwise idle machine.
 #   [RUNS=N] pipelines/bench/startup.sh
 set -euo pipefail
-root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
-bin="${BUILD_DIR:-$root/build}/bin"
+source "$(dirname "${BASH_SOURCE[0]}")/../lib/bench.bash" lt-seed
 runs="${RUNS:-21}"
 out="$(mktemp -d)"
 trap 'rm -rf "$out"' EXIT
-[ -x "$bin/lt-seed" ] || { echo "build first: cmake -S $root -B $root/build && cmake --build $root/build" >&2; exit 1; }
 
 box="$root/scenes/cornell-box/scene.xml"
 "$bin/lt-seed" "$box" --resolution 16x16 --spp 1 -o "$out/small.lts" -q

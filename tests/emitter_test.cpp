@@ -515,27 +515,27 @@ TEST_CASE("sun position: PSA puts the sun where the solstice and the equinox put
     const SunLocation greenwich{51.4769, 0, 0};
     SunTime noon{2010, 6, 21, 12, 0, 0};
     const SkyAngles a = sunPosition(noon, greenwich);
-    CHECK(a.zenith * 180 / Pi == Approx(51.4769 - 23.438).margin(0.03));
-    CHECK(a.azimuth * 180 / Pi == Approx(180).margin(1.5));
+    CHECK(radToDeg(a.zenith) == Approx(51.4769 - 23.438).margin(0.03));
+    CHECK(radToDeg(a.azimuth) == Approx(180).margin(1.5));
     // The same at 6:00: low in the east-north-east; east is +x of the sky frame, north -z.
     SunTime morning = noon;
     morning.hour = 6;
     const SkyAngles m = sunPosition(morning, greenwich);
-    CHECK(m.azimuth * 180 / Pi > 60);
-    CHECK(m.azimuth * 180 / Pi < 90);
+    CHECK(radToDeg(m.azimuth) > 60);
+    CHECK(radToDeg(m.azimuth) < 90);
     CHECK(skyDirection(m).x > 0.5);
     CHECK(skyDirection(m).y > 0);
     // On the equator at the March equinox of 2010 (20 March, 17:32 UT), at 12:00 local time 90 degrees
     // east of Greenwich (timezone 6): the sun stands almost overhead (declination -0.2 degrees, equation
     // of time 7.5 minutes = 1.9 degrees of hour angle).
     const SkyAngles e = sunPosition({2010, 3, 20, 12, 0, 0}, {0, 90, 6});
-    CHECK(e.zenith * 180 / Pi < 2.5);
+    CHECK(radToDeg(e.zenith) < 2.5);
 }
 
 TEST_CASE("sun: the Preetham disk dims and reddens toward the horizon, and stays finite", "[emitter][daylight]") {
     double lastLuminance = 1e300, lastRedShare = 0;
     for (double zenithDeg : {0.0, 30.0, 60.0, 80.0, 88.0, 90.0}) {
-        const Spectrum L = preethamSunRadiance(zenithDeg * Pi / 180, 3);
+        const Spectrum L = preethamSunRadiance(degToRad(zenithDeg), 3);
         CAPTURE(zenithDeg, L.r, L.g, L.b);
         REQUIRE(L.isFinite());
         CHECK(L.luminance() < lastLuminance);

@@ -234,7 +234,7 @@ TEST_CASE("a diffuse plane in sunlight: L = rho/pi E cos, for the sun disk in a 
           "[render][daylight]") {
     test::TempDir dir;
     // The sun 40 degrees from the zenith, turbidity 3; a plane of albedo 0.5 seen from above.
-    const double rho = 0.5, zenith = 40 * Pi / 180;
+    const double rho = 0.5, zenith = degToRad(40);
     const Spectrum E = preethamSunRadiance(zenith, 3) * (TwoPi * (1 - std::cos(SunAngularRadius)));
     for (const char* radiusScale : {"1", "0"}) {
         CAPTURE(radiusScale);
@@ -309,7 +309,8 @@ TEST_CASE("a thin lens blurs an edge out of focus by its circle of confusion and
                 }
             column[size_t(x)] = sum / count;
         }
-        // The edge is sharp in focus (one pixel between 0.8 and 0.2) and spread over about 6 pixels out of it.
+        // The edge is sharp in focus (no column between 0.8 and 0.2) and spread out of it over the blur disk's
+        // diameter, 2 x 0.2 on the half-planes, whose pixels are 2 x 4 tan(15 deg) / 32 = 0.067 wide: 6 columns.
         int between = 0;
         for (double c : column)
             between += c > 0.21 && c < 0.79;

@@ -44,7 +44,7 @@ Spectrum preethamSunRadiance(double zenith, double turbidity) {
     // Aerosol amount (Angstrom's beta) from turbidity, and the relative optical mass of Kasten and Young
     // (Preetham et al. Appendix A.2; the zenith angle in degrees inside the power).
     const double beta = 0.04608365822050 * turbidity - 0.04586025928522;
-    const double mass = 1.0 / (std::cos(zenith) + 0.15 * std::pow(93.885 - zenith * 180 / Pi, -1.253));
+    const double mass = 1.0 / (std::cos(zenith) + 0.15 * std::pow(93.885 - radToDeg(zenith), -1.253));
     constexpr double alpha = 1.3;  // ratio of small to large aerosol particles
     constexpr double ozone = 0.35; // ozone column, cm (NTP)
     constexpr double water = 2.0;  // precipitable water vapour, cm

@@ -31,8 +31,8 @@ SkyAngles sunPosition(const SunTime& time, const SunLocation& location) {
 
     // Local coordinates: hour angle from the local mean sidereal time, then zenith angle and azimuth.
     const double greenwichSiderealHours = 6.6974243242 + 0.0657098283 * n + hoursUt;
-    const double localSidereal = (greenwichSiderealHours * 15 + location.longitude) * Pi / 180;
-    const double latitude = location.latitude * Pi / 180;
+    const double localSidereal = degToRad(greenwichSiderealHours * 15 + location.longitude);
+    const double latitude = degToRad(location.latitude);
     const double hourAngle = localSidereal - rightAscension;
     const double cosLatitude = std::cos(latitude), sinLatitude = std::sin(latitude);
     double zenith =

@@ -21,7 +21,7 @@ constexpr int MaxResolution = 16384;
 std::string degrees(double radians) {
     std::ostringstream os;
     os.precision(4);
-    os << radians * 180 / Pi;
+    os << radToDeg(radians);
     return os.str();
 }
 

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "math/constants.h"
 #include "math/spectrum.h"
 #include "math/transform.h"
 #include "scene/emitter.h"
@@ -29,7 +30,7 @@ struct DaylightSettings {
 };
 
 // The true sun's angular radius (0.5358 / 2 degrees, Mitsuba's sun.cpp) and the solid angle of its disk.
-inline constexpr double SunAngularRadius = 0.5358 / 2 * Pi / 180;
+inline constexpr double SunAngularRadius = degToRad(0.5358 / 2);
 
 // The emitters of `sky` (withSky), `sun` (withSun) or `sunsky` (both, one map): one envmap, plus a
 // directional emitter when the sun's radius scale is 0. Throws lt::Error for settings out of range or a sun

@@ -13,6 +13,7 @@ packages=(
   libcli11-dev nlohmann-json3-dev   # command lines, JSON
   libpugixml-dev libtinyobjloader-dev zlib1g-dev   # scene XML, meshes, Mitsuba .serialized
   catch2                            # tests
+  clang libclang-rt-14-dev          # sanitizer and fuzz builds: tests/run.sh --sanitize, pipelines/fuzz.sh
   python3-matplotlib python3-numpy  # plots in pipelines/
 )
 

@@ -400,7 +400,7 @@ TEST_CASE("chi-square: diffuse, twosided and plastic sampling match pdf", "[bsdf
 
 TEST_CASE("chi-square: roughconductor sampling matches pdf", "[bsdf][chi2]") { runFamily({"roughconductor"}); }
 
-TEST_CASE("chi-square: roughdielectric (Beckmann) sampling matches pdf", "[bsdf][chi2]") {
+TEST_CASE("chi-square: roughdielectric (Beckmann) sampling matches pdf", "[bsdf][chi2][long]") {
     runFamily({"roughdielectric beckmann"});
 }
 

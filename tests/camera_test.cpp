@@ -100,7 +100,8 @@ TEST_CASE("camera: importance and emission density integrate to one over the cro
 
 TEST_CASE("camera: fovAxis follows Mitsuba", "[camera]") {
     const double fov = 40;
-    for (const auto& [w, h] : {std::pair{64, 48}, std::pair{48, 64}}) {
+    for (const auto& size : {std::pair{64, 48}, std::pair{48, 64}}) {
+        const int w = size.first, h = size.second; // lambdas below capture them (clang 14: no bindings)
         const Film film = makeFilm(w, h);
         auto angleX = [&](const PerspectiveCamera& c) {
             return angleBetween(c.generateRay({0, h / 2.0}, c.position()).d,

@@ -178,8 +178,9 @@ TEST_CASE("a base path shifted onto its own primary hit is itself", "[gradient]"
         const GradientSettings gs = settingsFor(*scene);
         Pcg32 rng(7, 1);
         const auto& f = scene->camera.film();
-        int compared = 0, equal = 0;
-        for (int n = 0; n < 400; ++n) {
+        int compared = 0, differentPaths = 0;
+        const int paths = 400;
+        for (int n = 0; n < paths; ++n) {
             const Vec2 raster(f.cropX + rng.nextDouble() * f.cropWidth, f.cropY + rng.nextDouble() * f.cropHeight);
             IndependentSampler sampler(uint64_t(n) + 1, 3);
             const BasePath base = traceBasePath(*scene, gs.paths, gs.shiftThreshold, raster, eye,
@@ -189,6 +190,7 @@ TEST_CASE("a base path shifted onto its own primary hit is itself", "[gradient]"
             (void)shiftBasePath(*scene, base, primaryVertex(*scene, raster, eye), gs.shiftThreshold, shifted,
                                 EarlyOut::Never);
             REQUIRE(shifted.size() == own.size());
+            bool pathSame = true;
             for (size_t e = 0; e < own.size(); ++e) {
                 if (own[e].density == 0) continue;
                 ++compared;
@@ -199,13 +201,16 @@ TEST_CASE("a base path shifted onto its own primary hit is itself", "[gradient]"
                 bool same = std::abs(shifted[e].density - own[e].density) <= 2e-2 * own[e].density;
                 for (int c = 0; c < 3; ++c)
                     same = same && std::abs(shifted[e].value[c] - own[e].value[c]) <= tol;
-                equal += same;
+                pathSame = pathSame && same;
             }
+            differentPaths += !pathSame;
         }
-        CAPTURE(compared, equal);
+        CAPTURE(compared, differentPaths);
         CHECK(compared > 400);
-        // A reconnection's shadow ray between the points of one traced ray can, very rarely, graze a neighbour.
-        CHECK(equal >= compared - compared / 1000);
+        // A reconnection's shadow ray between the points of one traced ray can, very rarely, graze a neighbour, and
+        // a reconnection closer to grazing than cos ~ 0.05 turns its cosines by more than the 2 % above: such a base
+        // path differs in every ending term after that vertex, so the rare event is counted per path.
+        CHECK(differentPaths <= paths / 200);
     }
 }
 
@@ -409,7 +414,7 @@ TEST_CASE("T-GR-1: reusing the paths of a two-pixel set is G-PT's pair estimator
     }
 }
 
-TEST_CASE("T-GR-3: G-PT and path reusing are unbiased: primal and gradients against path tracing", "[gradient]") {
+TEST_CASE("T-GR-3: G-PT and path reusing are unbiased: primal and gradients against path tracing", "[gradient][long]") {
     // A diffuse scene, one with glossy plates and small lights, one with glass (half-vector copies), and one
     // with delta lights, smooth plastic and a thin pane.
     test::TempDir dir;
@@ -877,7 +882,7 @@ TEST_CASE("GDMLT: the chain-state stream credits every state as the chains' own 
 }
 
 TEST_CASE("GDMLT: primal and gradients from chain states are unbiased against BDPT, for both targets",
-          "[gradient][gdmlt]") {
+          "[gradient][gdmlt][long]") {
     test::TempDir dir;
     for (const auto& [name, target] :
          {std::pair{"cornell-box", "luminance"}, std::pair{"cornell-spheres", "luminance"},
@@ -931,7 +936,7 @@ TEST_CASE("GDMLT: primal and gradients from chain states are unbiased against BD
 }
 
 TEST_CASE("GDMLT: in the furnace the gradient target's chains give zero gradients and the furnace's value",
-          "[gradient][gdmlt]") {
+          "[gradient][gdmlt][long]") {
     test::TempDir dir;
     const auto scene = loadScene(test::furnaceBox(dir, 0.5, 4));
     // Le * (1 + rho + rho^2 + rho^3), the directly seen emission in the direct plane.

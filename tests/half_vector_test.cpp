@@ -477,7 +477,8 @@ TEST_CASE("T-HS-4: at zero step the half-vector mutation accepts everything", "[
     }
 }
 
-TEST_CASE("T-HS-6: the image-plane limit spreads the chains' samples more evenly over the image", "[hslt][mcmc]") {
+TEST_CASE("T-HS-6: the image-plane limit spreads the chains' samples more evenly over the image",
+          "[hslt][mcmc][long]") {
     // HSLT Sec. 6.2, Fig. 11 (the Cornell box with a glass sphere, 8 samples per pixel, sample counts with
     // and without the stratification). Per pixel, the states the chains visited against the count the
     // stationary distribution expects there (all runs of both settings pooled: the same f*), as the

@@ -1,15 +1,19 @@
 // image/image_io and image/buffer_merge: EXR round trip (names, exact floats, INFO metadata), EXR files
 // written by other software, the sRGB PNG preview against the sRGB formula, merging by weights exactly,
-// one clear error per mismatch, and no output under the final name when a write fails.
+// one clear error per mismatch, no output under the final name when a write fails, and EXR headers checked
+// before OpenEXR allocates what they declare.
 #include <OpenImageIO/imageio.h>
 
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <limits>
 
 #include "image/buffer_merge.h"
 #include "image/image_io.h"
+#include "texture/exr_header.h"
 #include "math/error.h"
 #include "test_util.h"
 
@@ -238,4 +242,74 @@ TEST_CASE("failed image writes leave nothing under the final name", "[image]") {
                    Catch::Contains("cannot rename"));
         CHECK(leftovers(dir.path) == std::vector<std::string>{"out.exr"});
     }
+}
+
+TEST_CASE("an EXR's header sizes are checked against the file and memory before OpenEXR reads it", "[image]") {
+    test::TempDir dir;
+    const std::string path = dir.file("checked.exr");
+    writeExr(path, makeBuffer(3, 2, {"R", "G", "B", "dx.R"}, 1, 0), nlohmann::json{{"producer", "test"}});
+    const std::vector<ExrPartLayout> one = scanExrHeaders(path);
+    REQUIRE(one.size() == 1);
+    CHECK(one[0].width == 3);
+    CHECK(one[0].height == 2);
+    CHECK(one[0].channels == 4);
+
+    // Two parts (OpenImageIO writes subimages as the parts of a multi-part file).
+    const std::string multi = dir.file("multi.exr");
+    std::vector<OIIO::ImageSpec> specs = {OIIO::ImageSpec(2, 2, 3, OIIO::TypeDesc::FLOAT),
+                                          OIIO::ImageSpec(4, 1, 1, OIIO::TypeDesc::FLOAT)};
+    for (auto& spec : specs) { // a multi-part file's parts share the display window
+        spec.full_width = 4;
+        spec.full_height = 2;
+    }
+    specs[0].attribute("oiio:subimagename", "first");
+    specs[1].attribute("oiio:subimagename", "second");
+    auto out = OIIO::ImageOutput::create(multi);
+    REQUIRE(out);
+    const bool opened = out->open(multi, int(specs.size()), specs.data());
+    INFO(out->geterror());
+    REQUIRE(opened);
+    const std::vector<float> pixels(12, 0.5f);
+    REQUIRE(out->write_image(OIIO::TypeDesc::FLOAT, pixels.data()));
+    REQUIRE(out->open(multi, specs[1], OIIO::ImageOutput::AppendSubimage));
+    REQUIRE(out->write_image(OIIO::TypeDesc::FLOAT, pixels.data()));
+    REQUIRE(out->close());
+    const std::vector<ExrPartLayout> two = scanExrHeaders(multi);
+    REQUIRE(two.size() == 2);
+    CHECK((two[1].width == 4 && two[1].height == 1 && two[1].channels == 1));
+
+    std::ifstream in(path, std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const auto damaged = [&](const std::string& name, size_t at, const std::string& with,
+                             size_t cut = std::string::npos) {
+        std::string copy = bytes.substr(0, cut);
+        if (at != std::string::npos) copy.replace(at, with.size(), with);
+        return dir.write(name, copy);
+    };
+    // An attribute declaring 2^31 - 1 bytes: OpenEXR 3.1 would allocate them before finding the file too short.
+    const size_t info = bytes.find(std::string("lt:info\0string\0", 15));
+    REQUIRE(info != std::string::npos);
+    const std::string huge = damaged("huge.exr", info + 15, std::string("\xff\xff\xff\x7f", 4));
+    CHECK_THAT(test::errorOf([&] { (void)readExr(huge); }),
+               Catch::StartsWith(huge + ": damaged EXR header: attribute 'lt:info' of part 1 declares 2147483647 "
+                                        "bytes, more than the ") &&
+                   Catch::EndsWith(" left in the file"));
+    const std::string cut = damaged("cut.exr", std::string::npos, "", info + 3);
+    CHECK(test::errorOf([&] { (void)readExr(cut); }) ==
+          cut + ": damaged EXR header: the file ends inside an attribute name of part 1");
+    const size_t window = bytes.find(std::string("dataWindow\0box2i\0\x10\0\0\0", 21));
+    REQUIRE(window != std::string::npos);
+    const std::string empty = damaged("empty.exr", window + 21 + 8, std::string("\xff\xff\xff\xff", 4)); // xMax -1
+    CHECK(test::errorOf([&] { (void)readExr(empty); }) ==
+          empty + ": damaged EXR header: the data window of part 1 is empty");
+
+    // What reading takes is checked against memory first: 6 pixels x (4 channels x 4 + 8) bytes = 144.
+    struct Restore {
+        ~Restore() { unsetenv("LT_MEMORY_LIMIT"); }
+    } restore;
+    setenv("LT_MEMORY_LIMIT", "100", 1);
+    CHECK_THAT(test::errorOf([&] { (void)readExr(path); }),
+               Catch::StartsWith(path + ": an EXR of 6 pixels and 4 channels needs 0 MiB of memory"));
+    setenv("LT_MEMORY_LIMIT", "144", 1);
+    CHECK(readExr(path).width == 3);
 }

@@ -207,7 +207,7 @@ TEST_CASE("manifold perturbation: the density sampled is the T(x -> y) computed,
 
 TEST_CASE("MEMLT and HSLT on stiff cases: index nearly matched and 4, scene scales 1e-3 and 1e5, grazing view, "
           "glossy glass of roughness 1e-4 to 0.5",
-          "[manifold][hslt][mcmc]") {
+          "[manifold][hslt][mcmc][long]") {
     // No NaN or Inf reaches the image, the perturbation or mutation moves the chains, and its walk figures
     // add up. With alpha 1e-4 HSLT's steps go to 1e-5 (gamma alpha / sqrt 2) and its walk tolerance with them.
     struct Case {
@@ -246,7 +246,7 @@ TEST_CASE("MEMLT and HSLT on stiff cases: index nearly matched and 4, scene scal
 }
 
 TEST_CASE("MEMLT and HSLT in the furnace box with a mirror ball and a glass ball: every pixel is Le / (1 - rho)",
-          "[manifold][hslt][mcmc]") {
+          "[manifold][hslt][mcmc][long]") {
     // Lossless specular balls in a furnace whose walls emit 1 and reflect rho: the radiance is 1 / (1 - rho)
     // everywhere, seen directly, in the mirror or through the glass. The chains' image mean must be it
     // (paths beyond 12 edges are cut: with rho 0.2 and balls that lose nothing, under 1e-3 of it). Every

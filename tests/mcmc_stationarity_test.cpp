@@ -405,7 +405,7 @@ MutationStatistics checkVisits(const Scene& scene, const std::vector<double>& ex
 
 } // namespace
 
-TEST_CASE("path-space chains through a thin lens visit its aperture in proportion to f*", "[mcmc][thinlens]") {
+TEST_CASE("path-space chains through a thin lens visit its aperture in proportion to f*", "[mcmc][thinlens][long]") {
     // The tiny scene seen through a thin lens of radius 0.3 focused at 2 (the patch lies 2.1 away): the
     // camera vertex is a point of the aperture, which only the bidirectional mutation (deleting the camera
     // vertex) and the lens perturbation (its lens-point kernel) move. Bins: the lens half (across the view,
@@ -442,7 +442,7 @@ TEST_CASE("path-space chains through a thin lens visit its aperture in proportio
                 0, 2, {"bidirectional", "lens"}, 1, 24576, false, {}, true);
 }
 
-TEST_CASE("path-space chains visit a tiny path space in proportion to f*", "[mcmc]") {
+TEST_CASE("path-space chains visit a tiny path space in proportion to f*", "[mcmc][long]") {
     test::TempDir dir;
     const auto scene = loadScene(tinyScene(dir));
     const auto& camera = scene->camera;
@@ -465,7 +465,7 @@ TEST_CASE("path-space chains visit a tiny path space in proportion to f*", "[mcm
 }
 
 TEST_CASE("path-space chains sampling a target other than luminance visit a tiny path space in proportion to it",
-          "[mcmc][gdmlt]") {
+          "[mcmc][gdmlt][long]") {
     // GDMLT's chains sample their own target: each state's f* is re-evaluated after the mutation built it and
     // Q = T / f* rescaled (mcmc/path_space_chains.h). Here the target is luminance times a factor of 1, 2 or 3
     // by bin, a pattern no mutation knows of, so the visits follow it only if the rescaling is right.
@@ -502,7 +502,7 @@ Facet ridgeFacet(double side) { // side -1: x < 0, +1: x > 0
 
 } // namespace
 
-TEST_CASE("HSLT's jumps between subspaces carry chains over a ridge in proportion to f*", "[mcmc][hslt]") {
+TEST_CASE("HSLT's jumps between subspaces carry chains over a ridge in proportion to f*", "[mcmc][hslt][long]") {
     test::TempDir dir;
     const auto scene = loadScene(tinyScene(dir, {ridgeFacet(-1), ridgeFacet(1)}));
     checkFraming(scene->camera, Eye, Glossy, Light);
@@ -574,7 +574,7 @@ std::vector<double> tabulateSun(const Bsdf& bsdf) {
 
 } // namespace
 
-TEST_CASE("path-space chains under a directional light visit a tiny path space in proportion to f*", "[mcmc]") {
+TEST_CASE("path-space chains under a directional light visit a tiny path space in proportion to f*", "[mcmc][long]") {
     test::TempDir dir;
     const auto scene = loadScene(tinyScene(dir, {Glossy.facet()}, sunEmitter(SunTravel)));
     const std::vector<double> expected = tabulateSun(*scene->bsdfs[size_t(scene->shapes[0].bsdf)].bsdf);
@@ -587,7 +587,7 @@ TEST_CASE("path-space chains under a directional light visit a tiny path space i
 }
 
 TEST_CASE("path-space chains with the portal perturbation visit a tiny path space in proportion to f*",
-          "[mcmc][portal]") {
+          "[mcmc][portal][long]") {
     // The tiny scene with a portal in the plane z = 0.75 across every light -> glossy edge (its normal 45
     // degrees off the edges'), none of the camera's: the portal perturbation turns the first edge about its
     // crossing, moving both the light and the glossy vertex. The portal is not geometry, so f* and its
@@ -639,7 +639,7 @@ std::vector<double> tabulateSky(const Bsdf& bsdf) {
 } // namespace
 
 TEST_CASE("path-space chains with the portal perturbation under a sky visit a tiny path space in proportion to f*",
-          "[mcmc][portal]") {
+          "[mcmc][portal][long]") {
     // The light vertex at infinity: T in the measure of f is p_sigma / |n_portal . w| G with G = |n . w| at the
     // finite end (solid angle at the sky's end). Broken on purpose: without that cosine (G = 1 for a direction)
     // bins and marginals were off by |z| up to 15 and 17 (correct: below 3). (The finite form of G toward the
@@ -769,7 +769,7 @@ std::vector<double> tabulateMirror(const MirrorCase& mc) {
 
 } // namespace
 
-TEST_CASE("path-space chains through a mirror visit a tiny path space in proportion to f*", "[mcmc]") {
+TEST_CASE("path-space chains through a mirror visit a tiny path space in proportion to f*", "[mcmc][long]") {
     // The manifold perturbation's two walks: the caustic's chain patch -> mirror -> light walked with the light
     // held (the camera's direction turned), the reflection's chain patch -> mirror -> camera walked with the
     // camera held (the light's direction turned); and its turned chains through the mirror the other way.
@@ -845,7 +845,7 @@ std::vector<double> tabulateSunMirror(const MirrorCase& mc) {
 } // namespace
 
 TEST_CASE("path-space chains of a sun caustic through a mirror visit a tiny path space in proportion to f*",
-          "[mcmc][manifold]") {
+          "[mcmc][manifold][long]") {
     // The mirror is planar, so the |cos| at x_1' in the caustic perturbation's density is the same at every
     // state and cancels here. Broken on purpose: the
     // vertex at infinity walked as the point p far away made 97 % of the walks fail (diverged, or not
@@ -908,7 +908,7 @@ std::vector<double> tabulateSunSphere(const MirrorCase& mc) {
 } // namespace
 
 TEST_CASE("path-space chains of a sun caustic through a mirror sphere visit a tiny path space in proportion to f*",
-          "[mcmc][manifold]") {
+          "[mcmc][manifold][long]") {
     // Broken on purpose: the caustic perturbation's sideways density without the |cos| at x_1' (convertDensity
     // at infinity returning the plane density) gave marginals |z| 5.6 and a sum of z^2 of 125 (bound 87). A
     // walk's Jacobian with the direction to the sun turning (inverse distance 0.3 instead of 0) moved |det| by
@@ -1041,7 +1041,7 @@ std::vector<double> tabulatePair(const Bsdf& left, const Bsdf& right, const Bsdf
 } // namespace
 
 TEST_CASE("path-space chains through two glossy bounces visit a tiny path space in proportion to f*",
-          "[mcmc][manifold]") {
+          "[mcmc][manifold][long]") {
     for (const bool spot : {false, true}) {
         INFO((spot ? "spot light" : "point light"));
         test::TempDir dir;

@@ -16,3 +16,28 @@ TEST_CASE("requireMemory refuses what cannot fit, naming it, and lets ordinary s
     // Products of sizes beyond 2^64 bytes stay a clear error.
     CHECK_THAT(test::errorOf([] { requireMemory(1e30, "1e30 bytes"); }), Catch::StartsWith("1e30 bytes needs "));
 }
+
+TEST_CASE("LT_MEMORY_LIMIT lowers the memory lt counts on, and a malformed one is an error", "[memory]") {
+    const uint64_t machine = availableMemory();
+    REQUIRE(machine > (uint64_t(1) << 30));
+    struct Restore {
+        ~Restore() { unsetenv("LT_MEMORY_LIMIT"); }
+    } restore;
+    setenv("LT_MEMORY_LIMIT", "64M", 1);
+    CHECK(availableMemory() == 64 * (uint64_t(1) << 20));
+    CHECK_THAT(test::errorOf([] { requireMemory(100e6, "a 100 MB film"); }),
+               Catch::Equals("a 100 MB film needs 95 MiB of memory, more than the 64 MiB available"));
+    CHECK(test::errorOf([] { requireMemory(50e6, "a 50 MB film"); }) == "(no error)");
+    setenv("LT_MEMORY_LIMIT", "1000000", 1);
+    CHECK(availableMemory() == 1000000);
+    setenv("LT_MEMORY_LIMIT", "0.5g", 1);
+    CHECK(availableMemory() == uint64_t(1) << 29);
+    // A limit above what the machine has changes nothing.
+    setenv("LT_MEMORY_LIMIT", "1000T", 1);
+    CHECK(availableMemory() <= machine + (uint64_t(1) << 30)); // MemAvailable moves a little between reads
+    for (const char* bad : {"lots", "-1G", "0", "4GB", "G", "nan", "1e300T"}) {
+        setenv("LT_MEMORY_LIMIT", bad, 1);
+        CHECK(test::errorOf([] { (void)availableMemory(); }) ==
+              "LT_MEMORY_LIMIT: '" + std::string(bad) + "' is not a memory size such as 4G, 512M or 1000000");
+    }
+}

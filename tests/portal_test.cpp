@@ -338,7 +338,7 @@ double reflectorRadiance(double x, double z) {
 
 TEST_CASE("T-PO-1: on the paper's three planes the chains with the portal perturbation match the analytic "
           "radiance",
-          "[portal]") {
+          "[portal][long]") {
     // Expected per 4 x 4 block: the radiance averaged over the block's pixels (4 x 4 points per pixel, each
     // camera ray taken to the reflector). The chains: 16 independent runs per mix (each with b from its own
     // BDPT seeds, part of their spread). A block's z is a Student t with 15 degrees of freedom: P(|t| > 6)

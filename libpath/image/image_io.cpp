@@ -21,9 +21,9 @@
 #include <tuple>
 
 #include "math/error.h"
-#include "math/memory_budget.h"
 #include "math/one_line.h"
 #include "math/temp_output.h"
+#include "texture/exr_header.h"
 
 namespace lt {
 
@@ -160,19 +160,12 @@ file::Buffer readExr(const std::string& path) {
     if (!isExrFile(path)) throw Error(path + ": not an EXR file (no EXR magic number)");
     file::Buffer b;
     try {
+        requireExrMemory(path); // before OpenEXR allocates what the header declares
         Imf::MultiPartInputFile file(path.c_str());
         const Imath::Box2i first = file.header(0).dataWindow();
         b.width = uint32_t(first.max.x - first.min.x + 1);
         b.height = uint32_t(first.max.y - first.min.y + 1);
         const size_t pixels = size_t(b.width) * size_t(b.height);
-        size_t channels = 0;
-        for (int part = 0; part < file.parts(); ++part)
-            if (file.header(part).dataWindow() == first)
-                for (auto it = file.header(part).channels().begin(); it != file.header(part).channels().end(); ++it)
-                    ++channels;
-        requireMemory(double(pixels) * double(channels) * sizeof(float),
-                      path + ": an EXR of " + std::to_string(b.width) + "x" + std::to_string(b.height) + " pixels and " +
-                          std::to_string(channels) + " channels");
         for (int part = 0; part < file.parts(); ++part) {
             const Imf::Header& header = file.header(part);
             if (header.hasType() && Imf::isDeepData(header.type()))
@@ -211,12 +204,6 @@ file::Buffer readExr(const std::string& path) {
     }
     checkBuffer(b, path);
     return b;
-}
-
-bool isExrFile(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::array<char, 4> magic{};
-    return in.read(magic.data(), 4) && magic == std::array<char, 4>{0x76, 0x2f, 0x31, 0x01};
 }
 
 } // namespace lt

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "formats/records.h"
+#include "texture/exr_header.h" // isExrFile
 
 namespace lt {
 
@@ -31,8 +32,5 @@ void writePng(const std::string& path, const file::Buffer& buffer, double exposu
 // The data window is the image; parts of a multi-part file with the data window of the first are added
 // as further channels, prefixed with the part's name where they would repeat a name.
 [[nodiscard]] file::Buffer readExr(const std::string& path);
-
-// Whether the file starts with the EXR magic number (76 2f 31 01); false if it cannot be read.
-[[nodiscard]] bool isExrFile(const std::string& path);
 
 } // namespace lt

@@ -1,9 +1,9 @@
 #include "image/snapshot_schedule.h"
 
-#include <charconv>
 #include <cmath>
 
 #include "math/error.h"
+#include "math/number_text.h"
 
 namespace lt {
 
@@ -15,9 +15,8 @@ std::vector<double> parseList(const std::string& spec, const char* what) {
     while (pos <= spec.size()) {
         const size_t comma = spec.find(',', pos);
         const std::string tok = spec.substr(pos, comma == std::string::npos ? std::string::npos : comma - pos);
-        double v = 0;
-        const auto [ptr, ec] = std::from_chars(tok.data(), tok.data() + tok.size(), v);
-        if (tok.empty() || ec != std::errc() || ptr != tok.data() + tok.size() || !(v > 0) || !std::isfinite(v))
+        const double v = numberFromText(tok).value_or(0);
+        if (!(v > 0) || !std::isfinite(v))
             throw Error(std::string("snapshot ") + what + " must be positive numbers separated by commas, got '" + spec + "'");
         if (!out.empty() && !(v > out.back()))
             throw Error(std::string("snapshot ") + what + " must increase, got '" + spec + "'");

@@ -3,11 +3,15 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <optional>
 
 #include "math/error.h"
+#include "math/number_text.h"
 
 namespace lt {
 
@@ -19,6 +23,23 @@ std::optional<uint64_t> numberIn(const char* file) {
     unsigned long long value = 0;
     if (!(in >> value)) return std::nullopt;
     return uint64_t(value);
+}
+
+// LT_MEMORY_LIMIT: bytes, or a number with the suffix K, M, G or T (powers of 1024); nothing when unset.
+std::optional<uint64_t> userMemoryLimit() {
+    const char* env = std::getenv("LT_MEMORY_LIMIT");
+    if (!env || !*env) return std::nullopt;
+    std::string text = env;
+    double unit = 1;
+    if (const char last = char(std::toupper(static_cast<unsigned char>(text.back())));
+        last == 'K' || last == 'M' || last == 'G' || last == 'T') {
+        unit = std::pow(1024.0, last == 'K' ? 1 : last == 'M' ? 2 : last == 'G' ? 3 : 4);
+        text.pop_back();
+    }
+    const std::optional<double> number = numberFromText(text);
+    if (!number || !(*number > 0) || !(*number * unit < 1.8e19))
+        throw Error("LT_MEMORY_LIMIT: '" + std::string(env) + "' is not a memory size such as 4G, 512M or 1000000");
+    return uint64_t(*number * unit);
 }
 
 } // namespace
@@ -40,19 +61,23 @@ uint64_t availableMemory() {
         const uint64_t left = *limit > *used ? *limit - *used : 0;
         available = available > 0 ? std::min(available, left) : left;
     }
+    // A limit the user sets for lt alone (a shared machine, a fuzzer's memory bound).
+    if (const auto limit = userMemoryLimit()) available = available > 0 ? std::min(available, *limit) : *limit;
     return available;
 }
 
 void requireMemory(double bytes, const std::string& what) {
     const uint64_t available = availableMemory();
     if (available == 0 || !(bytes > double(available))) return;
-    const auto gib = [](double b) {
+    const auto size = [](double b) { // "1.5 GiB", or "95 MiB" below a GiB
         char text[32];
-        std::snprintf(text, sizeof text, "%.1f", b / double(uint64_t(1) << 30));
+        if (b < double(uint64_t(1) << 30))
+            std::snprintf(text, sizeof text, "%.0f MiB", b / double(uint64_t(1) << 20));
+        else
+            std::snprintf(text, sizeof text, "%.1f GiB", b / double(uint64_t(1) << 30));
         return std::string(text);
     };
-    throw Error(what + " needs " + gib(bytes) + " GiB of memory, more than the " + gib(double(available)) +
-                " GiB available");
+    throw Error(what + " needs " + size(bytes) + " of memory, more than the " + size(double(available)) + " available");
 }
 
 } // namespace lt

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "math/error.h"
+#include "math/number_text.h"
 #include "mcmc/mutation_registry.h"
 
 namespace lt {
@@ -52,9 +53,8 @@ MutationChoice chooseMutations(const std::string& spec, const SceneFeatures& fea
         MutationChoice::Entry e{item.substr(0, colon), 1};
         if (colon != std::string::npos) {
             const std::string w = item.substr(colon + 1);
-            char* end = nullptr;
-            e.weight = std::strtod(w.c_str(), &end);
-            if (w.empty() || *end != '\0' || !(e.weight > 0) || !std::isfinite(e.weight))
+            e.weight = numberFromText(w).value_or(0);
+            if (!(e.weight > 0) || !std::isfinite(e.weight))
                 throw Error("--strategies: weight of '" + e.name + "' must be a positive number, got '" + w + "'");
         }
         const MutationKind* kind = findMutationKind(e.name);

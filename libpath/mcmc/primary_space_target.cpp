@@ -17,7 +17,7 @@ PathSettings withoutRussianRoulette(PathSettings s) {
 } // namespace
 
 PrimarySpaceTarget::PrimarySpaceTarget(const Scene& scene, const PathSettings& settings, int unboundedEdges)
-    : scene_(scene), bdpt_(scene, settings), fixedLength_(scene, withoutRussianRoulette(settings)),
+    : bdpt_(scene, settings), fixedLength_(scene, withoutRussianRoulette(settings)),
       maxEdges_(settings.maxDepth > 0 ? settings.maxDepth : unboundedEdges), sensor_(scene.camera),
       cropPixels_(double(scene.camera.film().cropWidth) * double(scene.camera.film().cropHeight)) {}
 

@@ -37,7 +37,6 @@ public:
     [[nodiscard]] int maxEdges() const { return maxEdges_; }
 
 private:
-    const Scene& scene_;
     Bdpt bdpt_;
     Bdpt fixedLength_; // multiplexed: no Russian roulette, subpaths have exactly s and t vertices
     int maxEdges_;

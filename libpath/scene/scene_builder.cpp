@@ -1,7 +1,6 @@
 // SceneObject tree -> Scene: shapes (with their meshes loaded and transformed), emitters, the sensor
 // and the rendering defaults. BSDFs and textures are built by PluginFactory.
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -10,6 +9,7 @@
 
 #include "math/constants.h"
 #include "math/error.h"
+#include "math/number_text.h"
 #include "bsdf/bump_mapped.h"
 #include "scene/emitters/sun_position.h"
 #include "scene/emitters/sun_sky.h"
@@ -51,9 +51,8 @@ double focalLengthFov(const SceneObject& o) {
                            ? std::to_string(o.getFloat("focalLength"))
                            : o.getString("focalLength", "50mm");
     if (text.size() > 2 && text.compare(text.size() - 2, 2, "mm") == 0) text.resize(text.size() - 2);
-    double mm = 0;
-    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), mm);
-    if (ec != std::errc() || end != text.data() + text.size() || !(mm > 0) || !std::isfinite(mm))
+    const double mm = numberFromText(text).value_or(0);
+    if (!(mm > 0) || !std::isfinite(mm))
         o.fail("focalLength must be a positive length in millimetres such as \"50mm\", not '" + text + "'");
     return fullFrameFov(mm);
 }

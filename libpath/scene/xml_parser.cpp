@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "math/error.h"
+#include "math/number_text.h"
 #include "scene/missing_file.h"
 #include "scene/mitsuba3_syntax.h"
 #include "scene/scene_object.h"
@@ -148,15 +149,10 @@ private:
     }
 
     double number(const Source& src, const pugi::xml_node& node, const std::string& text) const {
-        double v = 0;
-        const char* b = text.data();
-        const char* e = b + text.size();
-        while (b < e && std::isspace(static_cast<unsigned char>(*b))) ++b;
-        if (b < e && *b == '+') ++b;
-        const auto [ptr, ec] = std::from_chars(b, e, v);
-        if (ec != std::errc() || ptr != e || b == e) fail(src, node, "'" + text + "' is not a number");
-        if (!std::isfinite(v)) fail(src, node, "'" + text + "' is not a finite number");
-        return v;
+        const std::optional<double> v = numberFromText(text);
+        if (!v) fail(src, node, "'" + text + "' is not a number");
+        if (!std::isfinite(*v)) fail(src, node, "'" + text + "' is not a finite number");
+        return *v;
     }
 
     std::vector<double> numbers(const Source& src, const pugi::xml_node& node, const std::string& text) const {

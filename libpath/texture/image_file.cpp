@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include "math/error.h"
+#include "texture/exr_header.h"
 
 namespace lt {
 
@@ -74,6 +75,8 @@ ImageFile readImageFile(const std::string& filename) {
     } catch (const Error& e) {
         throw Error(filename + ": cannot read image (" + e.what() + ")");
     }
+    // OpenImageIO reads EXRs through OpenEXR, which allocates what a header declares before reading it.
+    if (isExrFile(filename)) requireExrMemory(filename);
     ImageFile image;
     std::string error;
     if (!read(filename.c_str(), &image, &error)) throw Error(filename + ": cannot read image (" + error + ")");

@@ -68,6 +68,13 @@ out=$("$bin/lt-seed" "$tmp/box.xml" --resolution 200000x200000 -o "$tmp/huge.lts
 check "a film larger than memory: refused before allocating, one line, no output" \
   '[ $code -ne 0 ] && [ "$(echo "$out" | wc -l)" -eq 1 ] && echo "$out" | grep -q "200000x200000.*GiB of memory" && [ ! -e "$tmp/huge.lts" ]'
 
+out=$(LT_MEMORY_LIMIT=2M "$bin/lt-seed" "$tmp/box.xml" --resolution 1024x1024 -o "$tmp/limited.lts" 2>&1); code=$?
+check "LT_MEMORY_LIMIT: a film over the user's limit refused in one line naming both sizes, no output" \
+  '[ $code -ne 0 ] && [ "$(echo "$out" | wc -l)" -eq 1 ] && echo "$out" | grep -q "1024x1024.* MiB of memory, more than the 2 MiB available" && [ ! -e "$tmp/limited.lts" ]'
+out=$(LT_MEMORY_LIMIT=lots "$bin/lt-seed" "$tmp/box.xml" --spp 1 -o "$tmp/limited.lts" 2>&1); code=$?
+check "LT_MEMORY_LIMIT: a malformed value is one error line" \
+  '[ $code -ne 0 ] && [ "$out" = "lt-seed: error: LT_MEMORY_LIMIT: '"'lots'"' is not a memory size such as 4G, 512M or 1000000" ] && [ ! -e "$tmp/limited.lts" ]'
+
 out=$("$bin/lt-seed" "$tmp/nope.xml" -o "$tmp/x.lts" 2>&1); code=$?
 check "missing scene: non-zero exit, one line" '[ $code -ne 0 ] && [ "$(echo "$out" | wc -l)" -eq 1 ] && echo "$out" | grep -q "nope.xml"'
 out=$("$bin/lt-seed" "$tmp/box.xml" -o "$tmp/no/such/dir/x.lts" 2>&1); code=$?

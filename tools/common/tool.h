@@ -5,7 +5,6 @@
 #include <CLI/CLI.hpp>
 
 #include <cmath>
-#include <cstdlib>
 #include <exception>
 #include <functional>
 #include <iostream>
@@ -13,6 +12,7 @@
 #include <string>
 
 #include "math/error.h"
+#include "math/number_text.h"
 
 namespace lt::tool {
 
@@ -39,9 +39,8 @@ namespace detail {
 
 // The value of a numeric option's text, or nothing when it is not one finite number (nan, inf, 1x).
 inline std::optional<double> parseNumber(const std::string& text) {
-    char* end = nullptr;
-    const double v = std::strtod(text.c_str(), &end);
-    if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(v)) return std::nullopt;
+    const std::optional<double> v = numberFromText(text);
+    if (!v || !std::isfinite(*v)) return std::nullopt;
     return v;
 }
 

@@ -7,7 +7,8 @@
 # on ASan and UBSan) unless --no-build (CTest's runs). The committed corpus tests/fuzz/corpus/TARGET is only read:
 # what the run finds new goes to BUILD_DIR/fuzz-runs/TARGET/corpus (kept, so a later run goes on from it), and an
 # input that crashes, leaks, hangs past FUZZ_TIMEOUT seconds (default 10) or allocates more than FUZZ_RSS_MB
-# (default 2048) to BUILD_DIR/fuzz-runs/TARGET/findings. Exit status: libFuzzer's (0: no finding).
+# (default 2048) to BUILD_DIR/fuzz-runs/TARGET/findings (kept; the summary counts this run's). Exit status:
+# libFuzzer's (0: no finding).
 # Long runs on both cores: pipelines/fuzz.sh scene 3600 -fork=2 -ignore_crashes=1
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -27,7 +28,7 @@ esac
 [ $# -ge 2 ] || usage
 target="$1" seconds="$2"
 shift 2
-targets | grep -qx -- "$target" || { echo "fuzz.sh: no harness '$target' (targets: $(targets | tr '\n' ' '))" >&2; exit 2; }
+targets | grep -x -- "$target" >/dev/null || { echo "fuzz.sh: no harness '$target' (targets: $(targets | tr '\n' ' '))" >&2; exit 2; }
 [[ "$seconds" =~ ^[1-9][0-9]*$ ]] || { echo "fuzz.sh: SECONDS must be a whole number > 0, got '$seconds'" >&2; exit 2; }
 
 binary="$build/bin/fuzz-$target"
@@ -45,6 +46,7 @@ mkdir -p "$runs/corpus" "$runs/findings"
 dict=()
 [ -f "$fuzz/$target.dict" ] && dict=("-dict=$fuzz/$target.dict")
 log="$runs/log.txt"
+touch "$log.start" # findings of this run are the files newer than it
 status=0
 "$binary" "$runs/corpus" "$fuzz/corpus/$target" "${dict[@]}" -max_total_time="$seconds" \
   -timeout="${FUZZ_TIMEOUT:-10}" -rss_limit_mb="${FUZZ_RSS_MB:-2048}" -print_final_stats=1 \
@@ -53,14 +55,14 @@ status=0
 # libFuzzer's last status line ("#N DONE cov: C ft: F corp: K/..", with -fork "#N: cov: C ft: F corp: K ...") and
 # its final statistics (not printed with -fork: there N counts the executions).
 last=$(grep -E '^#[0-9]+:?[[:space:]].*cov: ' "$log" | tail -1 || true)
-execs=$(grep -oE 'stat::number_of_executed_units: [0-9]+' "$log" | awk '{s += $2} END {print s + 0}')
+execs=$({ grep -oE 'stat::number_of_executed_units: [0-9]+' "$log" || true; } | awk '{s += $2} END {print s + 0}')
 ((execs > 0)) || execs=$(sed -nE 's/^#([0-9]+).*/\1/p' <<< "$last")
 cov=$(sed -nE 's/.* cov: ([0-9]+).*/\1/p' <<< "$last")
 ft=$(sed -nE 's/.* ft: ([0-9]+).*/\1/p' <<< "$last")
 corp=$(sed -nE 's/.* corp: ([0-9]+).*/\1/p' <<< "$last")
-findings=$(find "$runs/findings" -type f | wc -l)
+findings=$(find "$runs/findings" -type f -newer "$log.start" | wc -l)
 echo "fuzz $target: $execs executions in $seconds s, coverage ${cov:-?} edges (${ft:-?} features), corpus ${corp:-?}," \
-  "findings in $runs/findings: $findings, exit $status"
+  "findings: $findings (in $runs/findings), exit $status"
 if ((status != 0)); then
   echo "fuzz $target: the end of $log:" >&2
   tail -40 "$log" >&2

@@ -207,9 +207,12 @@ TEST_CASE("a base path shifted onto its own primary hit is itself", "[gradient]"
         }
         CAPTURE(compared, differentPaths);
         CHECK(compared > 400);
-        // A reconnection's shadow ray between the points of one traced ray can, very rarely, graze a neighbour, and
-        // a reconnection closer to grazing than cos ~ 0.05 turns its cosines by more than the 2 % above: such a base
-        // path differs in every ending term after that vertex, so the rare event is counted per path.
+        // A reconnection's shadow ray between the points of one traced ray can, very rarely, graze a neighbour; and
+        // a direction turned by at most 1e-3 (see above) changes a cosine c by up to 1e-3 / c relative, beyond
+        // the 2 % only for c < 0.05, which a direction drawn in proportion to the cosine has with probability
+        // c^2 = 1/400 at each reconnected vertex, and only when its turn is near the bound (the compiler's
+        // rounding decides which paths). Such a base path differs in every ending term after that vertex, so the
+        // rare event is counted per path: at most 1 in 200.
         CHECK(differentPaths <= paths / 200);
     }
 }

@@ -250,9 +250,8 @@ TEST_CASE("an EXR's header sizes are checked against the file and memory before 
     writeExr(path, makeBuffer(3, 2, {"R", "G", "B", "dx.R"}, 1, 0), nlohmann::json{{"producer", "test"}});
     const std::vector<ExrPartLayout> one = scanExrHeaders(path);
     REQUIRE(one.size() == 1);
-    CHECK(one[0].width == 3);
-    CHECK(one[0].height == 2);
-    CHECK(one[0].channels == 4);
+    CHECK((one[0].width == 3 && one[0].height == 2 && one[0].channels == 4));
+    CHECK(one[0].chunks == 1); // ZIP: 16 scanlines a chunk
 
     // Two parts (OpenImageIO writes subimages as the parts of a multi-part file).
     const std::string multi = dir.file("multi.exr");
@@ -276,6 +275,7 @@ TEST_CASE("an EXR's header sizes are checked against the file and memory before 
     REQUIRE(out->close());
     const std::vector<ExrPartLayout> two = scanExrHeaders(multi);
     REQUIRE(two.size() == 2);
+    CHECK((two[0].width == 2 && two[0].height == 2 && two[0].channels == 3));
     CHECK((two[1].width == 4 && two[1].height == 1 && two[1].channels == 1));
 
     std::ifstream in(path, std::ios::binary);
@@ -286,30 +286,27 @@ TEST_CASE("an EXR's header sizes are checked against the file and memory before 
         if (at != std::string::npos) copy.replace(at, with.size(), with);
         return dir.write(name, copy);
     };
-    // An attribute declaring 2^31 - 1 bytes: OpenEXR 3.1 would allocate them before finding the file too short.
+    // An attribute declaring 2^31 - 1 bytes: OpenEXR's C++ library would allocate them before finding the file
+    // too short.
     const size_t info = bytes.find(std::string("lt:info\0string\0", 15));
     REQUIRE(info != std::string::npos);
     const std::string huge = damaged("huge.exr", info + 15, std::string("\xff\xff\xff\x7f", 4));
     CHECK_THAT(test::errorOf([&] { (void)readExr(huge); }),
-               Catch::StartsWith(huge + ": damaged EXR header: attribute 'lt:info' of part 1 declares 2147483647 "
-                                        "bytes, more than the ") &&
-                   Catch::EndsWith(" left in the file"));
+               Catch::StartsWith(huge + ": damaged EXR header: ") && Catch::Contains("lt:info"));
     const std::string cut = damaged("cut.exr", std::string::npos, "", info + 3);
-    CHECK(test::errorOf([&] { (void)readExr(cut); }) ==
-          cut + ": damaged EXR header: the file ends inside an attribute name of part 1");
+    CHECK_THAT(test::errorOf([&] { (void)readExr(cut); }), Catch::StartsWith(cut + ": damaged EXR header: "));
     const size_t window = bytes.find(std::string("dataWindow\0box2i\0\x10\0\0\0", 21));
     REQUIRE(window != std::string::npos);
-    const std::string empty = damaged("empty.exr", window + 21 + 8, std::string("\xff\xff\xff\xff", 4)); // xMax -1
-    CHECK(test::errorOf([&] { (void)readExr(empty); }) ==
-          empty + ": damaged EXR header: the data window of part 1 is empty");
+    const std::string empty = damaged("empty.exr", window + 21 + 8, std::string("\xfe\xff\xff\xff", 4)); // xMax -2
+    CHECK_THAT(test::errorOf([&] { (void)readExr(empty); }), Catch::StartsWith(empty + ": damaged EXR header: "));
 
-    // What reading takes is checked against memory first: 6 pixels x (4 channels x 4 + 8) bytes = 144.
+    // What reading takes is checked against memory first: 6 pixels x 4 float channels + one 8-byte chunk offset.
     struct Restore {
         ~Restore() { unsetenv("LT_MEMORY_LIMIT"); }
     } restore;
-    setenv("LT_MEMORY_LIMIT", "100", 1);
-    CHECK_THAT(test::errorOf([&] { (void)readExr(path); }),
-               Catch::StartsWith(path + ": an EXR of 6 pixels and 4 channels needs 0 MiB of memory"));
-    setenv("LT_MEMORY_LIMIT", "144", 1);
+    setenv("LT_MEMORY_LIMIT", "103", 1);
+    CHECK(test::errorOf([&] { (void)readExr(path); }) ==
+          path + ": an EXR of 3x2 pixels and 4 channels needs 104 bytes of memory, more than the 103 bytes available");
+    setenv("LT_MEMORY_LIMIT", "104", 1);
     CHECK(readExr(path).width == 3);
 }

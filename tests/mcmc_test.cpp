@@ -4,9 +4,9 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
-#include <limits>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <numeric>
 #include <optional>
 
@@ -383,7 +383,8 @@ TEST_CASE("bidirectional mutation: the density it samples with is the one T(x ->
                 }
                 const double mismatch = std::abs(p.recomputedDensity / p.sampledDensity - 1);
                 const bool nearContact = std::min(shortestEdge(x), shortestEdge(p.y)) < 1e-2;
-                (nearContact ? worstNearContact : worst) = std::max(nearContact ? worstNearContact : worst, mismatch);
+                double& worstHere = nearContact ? worstNearContact : worst;
+                worstHere = std::max(worstHere, mismatch);
                 off += mismatch > 1e-3;
                 CHECK(p.forwardQ > 0);
                 CHECK(std::isfinite(p.reverseQ));

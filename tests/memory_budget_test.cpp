@@ -35,7 +35,17 @@ TEST_CASE("LT_MEMORY_LIMIT lowers the memory lt counts on, and a malformed one i
     // A limit above what the machine has changes nothing.
     setenv("LT_MEMORY_LIMIT", "1000T", 1);
     CHECK(availableMemory() <= machine + (uint64_t(1) << 30)); // MemAvailable moves a little between reads
-    for (const char* bad : {"lots", "-1G", "0", "4GB", "G", "nan", "1e300T"}) {
+    setenv("LT_MEMORY_LIMIT", " 2K ", 1);
+    CHECK(availableMemory() == 2048);
+    CHECK(test::errorOf([] { requireMemory(3000, "3000 bytes"); }) ==
+          "3000 bytes needs 3 KiB of memory, more than the 2 KiB available");
+    setenv("LT_MEMORY_LIMIT", "100", 1);
+    CHECK(test::errorOf([] { requireMemory(101, "101 bytes"); }) ==
+          "101 bytes needs 101 bytes of memory, more than the 100 bytes available");
+    // Under one byte would read as "unknown" and turn the checks off: refused.
+    for (const char* bad : {"lots", "-1G", "0", "0.5", "4GB", "G", "nan", "1e300T", ""}) {
+        if (!*bad) continue; // unset: no limit, tested above by the machine's figure
+
         setenv("LT_MEMORY_LIMIT", bad, 1);
         CHECK(test::errorOf([] { (void)availableMemory(); }) ==
               "LT_MEMORY_LIMIT: '" + std::string(bad) + "' is not a memory size such as 4G, 512M or 1000000");

@@ -30,16 +30,19 @@ std::optional<uint64_t> userMemoryLimit() {
     const char* env = std::getenv("LT_MEMORY_LIMIT");
     if (!env || !*env) return std::nullopt;
     std::string text = env;
+    while (!text.empty() && std::isspace(static_cast<unsigned char>(text.back())))
+        text.pop_back();
     double unit = 1;
-    if (const char last = char(std::toupper(static_cast<unsigned char>(text.back())));
+    if (const char last = text.empty() ? '\0' : char(std::toupper(static_cast<unsigned char>(text.back())));
         last == 'K' || last == 'M' || last == 'G' || last == 'T') {
         unit = std::pow(1024.0, last == 'K' ? 1 : last == 'M' ? 2 : last == 'G' ? 3 : 4);
         text.pop_back();
     }
-    const std::optional<double> number = numberFromText(text);
-    if (!number || !(*number > 0) || !(*number * unit < 1.8e19))
+    // At least one byte: a limit of 0 would read as "unknown" and turn every check off.
+    const double bytes = numberFromText(text).value_or(0) * unit;
+    if (!(bytes >= 1) || !(bytes < 1.8e19))
         throw Error("LT_MEMORY_LIMIT: '" + std::string(env) + "' is not a memory size such as 4G, 512M or 1000000");
-    return uint64_t(*number * unit);
+    return uint64_t(bytes);
 }
 
 } // namespace
@@ -69,12 +72,16 @@ uint64_t availableMemory() {
 void requireMemory(double bytes, const std::string& what) {
     const uint64_t available = availableMemory();
     if (available == 0 || !(bytes > double(available))) return;
-    const auto size = [](double b) { // "1.5 GiB", or "95 MiB" below a GiB
+    const auto size = [](double b) { // "1.5 GiB", "95 MiB", "12 KiB" or "100 bytes"
         char text[32];
-        if (b < double(uint64_t(1) << 30))
-            std::snprintf(text, sizeof text, "%.0f MiB", b / double(uint64_t(1) << 20));
-        else
+        if (b >= double(uint64_t(1) << 30))
             std::snprintf(text, sizeof text, "%.1f GiB", b / double(uint64_t(1) << 30));
+        else if (b >= double(uint64_t(1) << 20))
+            std::snprintf(text, sizeof text, "%.0f MiB", b / double(uint64_t(1) << 20));
+        else if (b >= 1024)
+            std::snprintf(text, sizeof text, "%.0f KiB", b / 1024);
+        else
+            std::snprintf(text, sizeof text, "%.0f bytes", b);
         return std::string(text);
     };
     throw Error(what + " needs " + size(bytes) + " of memory, more than the " + size(double(available)) + " available");

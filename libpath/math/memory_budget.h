@@ -14,9 +14,9 @@ namespace lt {
 // suffix K, M, G or T; a malformed value is an error); 0 when none is known. Swap is not counted.
 [[nodiscard]] uint64_t availableMemory();
 
-// Throws lt::Error "WHAT needs X GiB of memory, more than the Y GiB available" (MiB below a GiB) when `bytes` exceeds
-// the available memory (nothing is checked when it is unknown). `bytes` is a double so that products of sizes cannot
-// overflow before the check.
+// Throws lt::Error "WHAT needs X GiB of memory, more than the Y GiB available" (MiB, KiB or bytes for less) when
+// `bytes` exceeds the available memory (nothing is checked when it is unknown). `bytes` is a double so that products of
+// sizes cannot overflow before the check.
 void requireMemory(double bytes, const std::string& what);
 
 } // namespace lt

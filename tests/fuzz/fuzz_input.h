@@ -1,14 +1,14 @@
 // What every libFuzzer harness shares. The readers under test take file names, as the tools give them, so
-// each input is written to a file in a private directory first (a tmpfs write costs microseconds, far less
-// than the parse) and read back through the very entry point a tool calls.
+// each input is written to a file in a private directory first (a write of a few kilobytes that stays in the
+// page cache, far cheaper than the parse) and read back through the very entry point a tool calls.
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <cstring>
 #include <string>
 #include <zlib.h>
 
@@ -22,7 +22,8 @@ namespace lt::fuzz {
 // input spends the fuzzer's time clearing gigabytes.
 inline const bool memoryLimited = setenv("LT_MEMORY_LIMIT", "256M", 0) == 0;
 
-// A directory of this process only (mkdtemp under TMPDIR), removed when the fuzzer exits.
+// A directory of this process only (mkdtemp under TMPDIR, named lt-fuzz-*), removed when the fuzzer ends
+// normally; a crash, a timeout or an out-of-memory exit (libFuzzer's _Exit) leaves it behind.
 class PrivateDirectory {
 public:
     PrivateDirectory() {

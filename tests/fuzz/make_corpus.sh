@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Writes the seed corpora of the fuzz harnesses (tests/fuzz/corpus/TARGET) and the scene harness's assets
 # (tests/fuzz/assets): small valid files of each kind, the lt files and EXRs made by the tools, the meshes
-# written here byte by byte. Run once after a format changes, then commit what it wrote.
+# written here byte by byte. Run once after a format changes, then commit what it wrote. The inputs of fixed
+# findings, tests/fuzz/corpus/TARGET/finding-*, are kept.
 #   tests/fuzz/make_corpus.sh          (BUILD_DIR: a built lt, default build/)
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
@@ -9,7 +10,8 @@ bin="${BUILD_DIR:-$root/build}/bin"
 [ -x "$bin/lt-seed" ] || { echo "build first: cmake -S $root -B $root/build && cmake --build $root/build" >&2; exit 1; }
 fuzz="$root/tests/fuzz"
 corpus="$fuzz/corpus"
-rm -rf "$corpus"
+# Regression inputs of fixed findings (finding-*) stay; everything this script makes is made again.
+find "$corpus" -type f ! -name 'finding-*' -delete 2>/dev/null || true
 mkdir -p "$corpus"/{ltfile,gradient-input,scene,obj-loader,ply-loader,serialized-loader} "$fuzz/assets"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT

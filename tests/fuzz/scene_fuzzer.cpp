@@ -3,8 +3,9 @@
 // meshes, textures, emitters, the acceleration structure.
 //
 // Sandboxed: each input is loaded as scene.xml from a private directory that holds only it and the assets
-// of tests/fuzz/assets (a mesh of each format, a texture, an included file), so relative file references
-// reach those and nothing of the machine's; the dictionary (scene.dict) names them.
+// of tests/fuzz/assets (a mesh of each format, a texture, an included file), which the dictionary (scene.dict)
+// names, so the file references the fuzzer builds reach those. Absolute paths and ".." are not barred, but
+// neither the corpus nor the dictionary holds one.
 #include <filesystem>
 
 #include "fuzz_input.h"

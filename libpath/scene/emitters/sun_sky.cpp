@@ -8,6 +8,7 @@
 #include "math/constants.h"
 #include "math/error.h"
 #include "math/frame.h"
+#include "math/memory_budget.h"
 #include "math/warp.h"
 #include "scene/emitters/preetham_sun.h"
 
@@ -120,6 +121,9 @@ std::vector<std::unique_ptr<Emitter>> makeDaylightEmitters(const DaylightSetting
     std::vector<std::unique_ptr<Emitter>> emitters;
     if (withSky || sunInMap) {
         LatLongImage map{s.resolution, s.resolution / 2, {}};
+        // The map's texels and the envmap emitter's sampling distribution over them (weights, cdf, pmf).
+        requireMemory(double(map.width) * double(map.height) * (sizeof(Spectrum) + 3 * sizeof(double)),
+                      "a sky map of " + std::to_string(map.width) + "x" + std::to_string(map.height) + " texels");
         map.pixels.resize(size_t(map.width) * size_t(map.height));
         if (withSky) {
             const SkyDome dome(s);

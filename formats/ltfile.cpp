@@ -71,6 +71,9 @@ void putLe64(unsigned char* p, uint64_t v) {
 }
 
 uint32_t crc(uint32_t running, const void* data, size_t n) {
+    // zlib's crc32 of a null pointer is its initial value, not "nothing added" (an empty vector's data()
+    // may be null).
+    if (n == 0) return running;
     return static_cast<uint32_t>(crc32_z(running, static_cast<const Bytef*>(data), n));
 }
 
@@ -206,7 +209,8 @@ void encodeRoundHeader(Encoder& e, const ChainRound& r, uint64_t states, const s
     e.put(static_cast<uint32_t>(states));
 }
 
-void encodeBuffer(Encoder& e, const Buffer& b, const std::string& file) {
+// A buffer's header: its size, channels, combine rule, weight and channel names (the planes follow).
+void encodeBufferHeader(Encoder& e, const Buffer& b, const std::string& file) {
     const uint64_t pixels = uint64_t(b.width) * b.height;
     if (b.planes.size() != b.channels.size())
         throw Error(file + ": buffer has " + std::to_string(b.channels.size()) + " channel names but " +
@@ -231,17 +235,40 @@ void encodeBuffer(Encoder& e, const Buffer& b, const std::string& file) {
     e.put(combine);
     e.put(uint32_t(b.sampleCounts.empty() ? 0 : 1));
     e.put(b.weight);
-    for (const std::string& name : b.channels) e.putString(name);
-    for (const auto& plane : b.planes) e.putArray(plane);
-    e.putArray(b.sampleCounts);
+    for (const std::string& name : b.channels)
+        e.putString(name);
 }
 
-void encodeSnapshot(Encoder& e, const Snapshot& s, const std::string& file) {
+template <class T> std::string_view bytesOf(const std::vector<T>& values) {
+    return {reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T)};
+}
+
+// A buffer's payload as the pieces of a chunk, after what `e` already holds: the header in e, then the
+// planes and sample counts. The format is little-endian; on such a machine the arrays are handed out as
+// they lie in memory, so a large image is not copied a second time to be written (a 1024^2 RGB buffer
+// with its counts is 16 MiB).
+std::vector<std::string_view> bufferPieces(Encoder& e, const Buffer& b, const std::string& file) {
+    encodeBufferHeader(e, b, file);
+    if constexpr (std::endian::native == std::endian::little) {
+        std::vector<std::string_view> pieces{e.bytes()};
+        for (const auto& plane : b.planes)
+            pieces.push_back(bytesOf(plane));
+        pieces.push_back(bytesOf(b.sampleCounts));
+        return pieces;
+    } else {
+        for (const auto& plane : b.planes)
+            e.putArray(plane);
+        e.putArray(b.sampleCounts);
+        return {e.bytes()};
+    }
+}
+
+std::vector<std::string_view> snapshotPieces(Encoder& e, const Snapshot& s, const std::string& file) {
     e.put(s.wallSeconds);
     e.put(s.cpuSeconds);
     e.put(s.samples);
     e.put(s.overheadSeconds);
-    encodeBuffer(e, s.buffer, file);
+    return bufferPieces(e, s.buffer, file);
 }
 
 void encodeStats(Encoder& e, const StatTable& t, const std::string& file) {
@@ -601,15 +628,13 @@ void Writer::writeChainRound(const ChainRound& figures, std::span<const EncodedC
 void Writer::writeBuffer(const Buffer& buffer) {
     impl_->requireKind(FileKind::Buffer, kBufr);
     Encoder e;
-    encodeBuffer(e, buffer, impl_->name);
-    impl_->writeChunk(kBufr, e.bytes());
+    impl_->writeChunk(kBufr, bufferPieces(e, buffer, impl_->name));
 }
 
 void Writer::writeSnapshot(const Snapshot& snapshot) {
     impl_->requireKind(FileKind::Buffer, kSnap);
     Encoder e;
-    encodeSnapshot(e, snapshot, impl_->name);
-    impl_->writeChunk(kSnap, e.bytes());
+    impl_->writeChunk(kSnap, snapshotPieces(e, snapshot, impl_->name));
 }
 
 void Writer::writeStats(const StatTable& stats) {

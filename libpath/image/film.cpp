@@ -13,14 +13,13 @@ namespace lt {
 SampleFilm::SampleFilm(const PerspectiveCamera& camera, std::vector<std::string> planes)
     : window_(cropWindow(camera.film())), filter_(camera.film().filter), planeNames_(std::move(planes)) {
     // Sums and splats in double, the pass statistics, the sample counts, and the developed float image a
-    // tool writes.
+    // tool writes. Checked for both sums, though a film allocates the one it uses only (allocated()): a
+    // film that runs out of memory says so now, not at its first splat.
     const size_t passPlanes = planeNames_.empty() ? 0 : 1 + planeNames_.size();
     const double bytesPerPixel = double(3 * (2 + planeNames_.size()) + 2 * passPlanes) * sizeof(double) +
                                  sizeof(uint32_t) + double(3 * (1 + planeNames_.size()) + passPlanes) * sizeof(float);
     requireMemory(bytesPerPixel * double(window_.area()),
                   "a film of " + std::to_string(window_.width()) + "x" + std::to_string(window_.height()) + " pixels");
-    sum_.assign(window_.area() * 3, 0.0);
-    splat_.assign(window_.area() * 3, 0.0);
     planeSums_.assign(planeNames_.size(), std::vector<double>(window_.area() * 3, 0.0));
     count_.assign(window_.area(), 0);
     passStart_.assign(passPlanes, std::vector<double>(window_.area(), 0.0));
@@ -54,7 +53,13 @@ double SampleFilm::filterSum(const Vec2& raster) const {
     return sum;
 }
 
+std::vector<double>& SampleFilm::allocated(std::vector<double>& sums) {
+    if (sums.empty()) sums.assign(window_.area() * 3, 0.0);
+    return sums;
+}
+
 void SampleFilm::merge(const TileResult& tile) {
+    if (!tile.sum.empty()) allocated(sum_);
     for (int y = tile.rect.y0; y < tile.rect.y1; ++y)
         for (int x = tile.rect.x0; x < tile.rect.x1; ++x) {
             const size_t src = size_t(y - tile.rect.y0) * size_t(tile.rect.width()) + size_t(x - tile.rect.x0);
@@ -64,6 +69,7 @@ void SampleFilm::merge(const TileResult& tile) {
             count_[dst] += tile.count[src];
             cameraSamples_ += tile.count[src];
         }
+    if (!tile.splats.empty()) allocated(splat_);
     for (const auto& s : tile.splats)
         addSplat(s, window_.y0, window_.y1);
     for (const auto& v : tile.planeValues) {
@@ -71,7 +77,7 @@ void SampleFilm::merge(const TileResult& tile) {
             v.y < window_.y0 || v.y >= window_.y1)
             continue; // off the stored window (a neighbour beyond the crop)
         const size_t dst = size_t(v.y - window_.y0) * size_t(width()) + size_t(v.x - window_.x0);
-        std::vector<double>& plane = v.plane < 0 ? sum_ : planeSums_[size_t(v.plane)];
+        std::vector<double>& plane = v.plane < 0 ? allocated(sum_) : planeSums_[size_t(v.plane)];
         for (int c = 0; c < 3; ++c)
             plane[3 * dst + size_t(c)] += v.value[c];
     }
@@ -80,6 +86,7 @@ void SampleFilm::merge(const TileResult& tile) {
 
 double SampleFilm::sumLuminance(size_t k, size_t i) const {
     const std::vector<double>& plane = k == 0 ? sum_ : planeSums_[k - 1];
+    if (plane.empty()) return 0.0;
     return Spectrum(plane[3 * i], plane[3 * i + 1], plane[3 * i + 2]).luminance();
 }
 
@@ -104,6 +111,7 @@ double SampleFilm::passVariance(size_t k, size_t i) const {
 }
 
 void SampleFilm::addSplat(const Splat& s, int rowLo, int rowHi) {
+    // splat_ is allocated before any splat reaches here (merge, mergeSplats): bands run in parallel.
     forEachPixel(
         s.raster,
         [&](size_t dst, double w) {
@@ -114,6 +122,7 @@ void SampleFilm::addSplat(const Splat& s, int rowLo, int rowHi) {
 }
 
 void SampleFilm::mergeSplats(const std::vector<const std::vector<Splat>*>& lists, uint64_t lightPaths) {
+    allocated(splat_);
     // Bands of rows, each splat listed (in the order given) in every band it reaches; then the bands in
     // parallel. 16 rows: a band holds a splat's whole footprint for filters up to radius 7.5.
     constexpr int BandRows = 16;
@@ -134,15 +143,31 @@ void SampleFilm::mergeSplats(const std::vector<const std::vector<Splat>*>& lists
     lightPaths_ += lightPaths;
 }
 
-std::vector<float> SampleFilm::develop(double splatScale) const {
-    std::vector<float> out(window_.area() * 3, 0.0f);
+double SampleFilm::splatWeight(double splatScale) const {
     // Light paths per pixel: the splat estimator of a pixel sums over all light paths of the image.
-    splatScale *= lightPaths_ > 0 ? double(window_.area()) / double(lightPaths_) : 0.0;
+    return splatScale * (lightPaths_ > 0 ? double(window_.area()) / double(lightPaths_) : 0.0);
+}
+
+double SampleFilm::estimate(size_t i, size_t c, double splatWeight) const {
+    const double cam = count_[i] > 0 ? sum_[3 * i + c] / count_[i] : 0.0;
+    return splat_.empty() ? cam : cam + splat_[3 * i + c] * splatWeight;
+}
+
+std::vector<float> SampleFilm::develop(double splatScale) const {
+    const double w = splatWeight(splatScale);
+    std::vector<float> out(window_.area() * 3);
     for (size_t i = 0; i < window_.area(); ++i)
-        for (size_t c = 0; c < 3; ++c) {
-            const double cam = count_[i] > 0 ? sum_[3 * i + c] / count_[i] : 0.0;
-            out[3 * i + c] = float(cam + splat_[3 * i + c] * splatScale);
-        }
+        for (size_t c = 0; c < 3; ++c)
+            out[3 * i + c] = float(estimate(i, c, w));
+    return out;
+}
+
+std::vector<std::vector<float>> SampleFilm::developPlanes(double splatScale) const {
+    const double w = splatWeight(splatScale);
+    std::vector<std::vector<float>> out(3, std::vector<float>(window_.area()));
+    for (size_t c = 0; c < 3; ++c)
+        for (size_t i = 0; i < window_.area(); ++i)
+            out[c][i] = float(estimate(i, c, w));
     return out;
 }
 
@@ -150,14 +175,10 @@ file::Buffer SampleFilm::toBuffer(double splatScale) const {
     file::Buffer b;
     b.width = uint32_t(width());
     b.height = uint32_t(height());
-    const std::vector<float> rgb = develop(splatScale);
     const char* const rgbNames[] = {"R", "G", "B"};
     for (const char* c : rgbNames)
         b.channels.push_back(planeNames_.empty() ? std::string(c) : std::string("primal.") + c);
-    b.planes.assign(3, std::vector<float>(window_.area()));
-    for (size_t i = 0; i < window_.area(); ++i)
-        for (size_t c = 0; c < 3; ++c)
-            b.planes[c][i] = rgb[3 * i + c];
+    b.planes = developPlanes(splatScale);
     for (size_t p = 0; p < planeNames_.size(); ++p)
         for (size_t c = 0; c < 3; ++c) {
             b.channels.push_back(planeNames_[p] + "." + rgbNames[c]);

@@ -96,6 +96,8 @@ public:
     // splats: the Markov chains splat with b = 1 and give their current estimate of b here, when the film
     // is read (mcmc/normalization.h).
     [[nodiscard]] std::vector<float> develop(double splatScale = 1) const;
+    // The same estimate as three planes R, G, B (a file buffer's layout).
+    [[nodiscard]] std::vector<std::vector<float>> developPlanes(double splatScale = 1) const;
     // Camera samples per pixel (crop window).
     [[nodiscard]] const std::vector<uint32_t>& sampleCounts() const { return count_; }
     [[nodiscard]] uint64_t lightPaths() const { return lightPaths_; }
@@ -119,9 +121,18 @@ private:
     [[nodiscard]] double passVariance(size_t k, size_t i) const;
     // A splat spread over the pixels of rows [rowLo, rowHi) it reaches.
     void addSplat(const Splat& s, int rowLo, int rowHi);
+    // What a splat adds to a pixel per unit of its value when the film is read (develop's `splatScale` over
+    // the light paths per pixel).
+    [[nodiscard]] double splatWeight(double splatScale) const;
+    // The current estimate of channel c of stored pixel i, given splatWeight.
+    [[nodiscard]] double estimate(size_t i, size_t c, double splatWeight) const;
+    // `sums` (sum_ or splat_) with room for every stored pixel: the two are allocated on their first use, so
+    // a film that only takes camera samples (path tracing) or only splats (the Markov chains) holds one.
+    std::vector<double>& allocated(std::vector<double>& sums);
 
     PixelRect window_;
     FilterDensity filter_;
+    // Sums of camera estimates and of splats, 3 per stored pixel once allocated (empty until first used).
     std::vector<double> sum_, splat_;
     std::vector<std::string> planeNames_;
     std::vector<std::vector<double>> planeSums_; // per plane, 3 per stored pixel

@@ -34,6 +34,32 @@ size_t DiscreteDistribution::sampleReuse(double& u) const {
     return i;
 }
 
+std::vector<size_t> systematicResample(std::span<const double> weights, size_t n, double offset) {
+    double total = 0;
+    for (size_t i = 0; i < weights.size(); ++i) {
+        if (!(weights[i] >= 0) || !std::isfinite(weights[i]))
+            throw Error("resampling weight " + std::to_string(i) + " is negative or not finite");
+        total += weights[i];
+    }
+    if (!(total > 0) || !std::isfinite(total)) throw Error("resampling weights that sum to 0 or overflow");
+    std::vector<size_t> out;
+    out.reserve(n);
+    size_t i = 0, lastPositive = 0;
+    double upper = weights[0]; // the weights' sum through index i, added in DiscreteDistribution's order
+    for (size_t j = 0; j < n; ++j) {
+        // The draw DiscreteDistribution::sample((j + offset) / n) makes, rounding included: the first index
+        // whose normalized CDF value exceeds the position, zero weights skipped.
+        const double u = (double(j) + offset) / double(n);
+        while (i + 1 < weights.size() && (upper / total <= u || weights[i] == 0)) {
+            if (weights[i] > 0) lastPositive = i;
+            upper += weights[++i];
+        }
+        // Positions at the end of the CDF can reach trailing zero weights: the last positive one is drawn.
+        out.push_back(weights[i] > 0 ? i : lastPositive);
+    }
+    return out;
+}
+
 Distribution2D::Distribution2D(std::span<const double> values, int width, int height) : width_(width), height_(height) {
     if (width <= 0 || height <= 0 || values.size() != size_t(width) * size_t(height))
         throw Error("Distribution2D: table size does not match its dimensions");

@@ -34,6 +34,14 @@ private:
     double total_ = 0;
 };
 
+// Systematic resampling (Kitagawa 1996): n indices drawn in proportion to `weights`, at the positions
+// (j + offset) / n, j = 0 .. n-1, of their normalized CDF, with offset in [0, 1); index i is drawn
+// floor(n w_i / W) or ceil(n w_i / W) times, never when its weight is 0. Returns the indices in increasing
+// order, each the one DiscreteDistribution(weights).sample((j + offset) / n) returns, rounding included,
+// in one pass and without a copy of the weights: a Markov-chain start-up resamples millions of samples.
+// Weights must be finite and >= 0, not all 0; throws lt::Error otherwise.
+[[nodiscard]] std::vector<size_t> systematicResample(std::span<const double> weights, size_t n, double offset);
+
 // Piecewise-constant density on [0,1]^2 from a (width x height) table of non-negative values, as in
 // pbrt's Distribution2D: marginal over rows, conditional within a row.
 class Distribution2D {

@@ -39,13 +39,10 @@ public:
         out.width = uint32_t(films_[0].width());
         out.height = uint32_t(films_[0].height());
         for (size_t p = 0; p < films_.size(); ++p) {
-            const std::vector<float> rgb = films_[p].develop(b);
+            std::vector<std::vector<float>> rgb = films_[p].developPlanes(b);
             for (size_t c = 0; c < 3; ++c) {
                 out.channels.push_back(std::string(names[p]) + "." + "RGB"[c]);
-                std::vector<float> plane(rgb.size() / 3);
-                for (size_t i = 0; i < plane.size(); ++i)
-                    plane[i] = rgb[3 * i + c];
-                out.planes.push_back(std::move(plane));
+                out.planes.push_back(std::move(rgb[c]));
             }
         }
         out.weight = double(films_[0].lightPaths());

@@ -196,15 +196,15 @@ ChainRunStats runPrimarySpaceChains(const Scene& scene, const PrimarySpaceSettin
     for (int k = 1; k <= lengths; ++k)
         for (uint64_t i = first[size_t(k)]; i < first[size_t(k) + 1]; ++i)
             weights[i] /= double(first[size_t(k) + 1] - first[size_t(k)]);
-    const DiscreteDistribution startFrom(weights);
     Pcg32 allocation = chainStream(run.seed, ~uint64_t(0));
-    const double offset = allocation.nextDouble();
+    const std::vector<size_t> starts = systematicResample(weights, size_t(run.chains), allocation.nextDouble());
+    weights = std::vector<double>(); // millions of samples with long paths (multiplexed): freed for the run
     stats.chainsPerLength.assign(multiplexed ? size_t(lengths) + 1 : 0, 0);
     stats.mutationsPerLength.assign(stats.chainsPerLength.size(), 0);
     std::vector<std::unique_ptr<MarkovChain>> chains;
     for (int c = 0; c < run.chains; ++c) {
         Pcg32 rng = chainStream(run.seed, uint64_t(c));
-        const size_t index = startFrom.sample((c + offset) / run.chains);
+        const size_t index = starts[size_t(c)];
         const int k = int(std::upper_bound(first.begin() + 1, first.end(), uint64_t(index)) - first.begin()) - 1;
         chains.push_back(std::make_unique<PrimarySpaceChain>(
             target, space,

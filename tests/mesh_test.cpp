@@ -320,6 +320,19 @@ TEST_CASE("PLY: ascii, binary little-endian and big-endian give the same mesh", 
     CHECK(report.degenerateTrianglesRemoved == 0);
 }
 
+TEST_CASE("PLY: an element without properties is nothing to read, whatever its count", "[mesh]") {
+    // Before, an ASCII file declaring 10^11 such items walked them one by one: a hang (fuzz finding
+    // tests/fuzz/corpus/ply-loader/finding-ascii-element-without-properties.ply).
+    TempDir dir;
+    MeshLoadReport report;
+    std::string ascii = asciiPly();
+    ascii.insert(ascii.find("element vertex"), "element marker 100000000000\n");
+    checkPlyMesh(loadPly(dir.write("marker.ply", ascii), report));
+    std::string binary = BinaryPly(false).header() + BinaryPly(false).body();
+    binary.insert(binary.find("element face"), "element marker 100000000000\n");
+    checkPlyMesh(loadPly(dir.write("marker_binary.ply", binary), report));
+}
+
 TEST_CASE("PLY: truncation is reported with element and item", "[mesh]") {
     TempDir dir;
     MeshLoadReport report;

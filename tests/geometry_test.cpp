@@ -198,6 +198,60 @@ TEST_CASE("differential geometry matches finite differences", "[geometry]") {
     }
 }
 
+TEST_CASE("a triangle's geometric normal takes its shading normals' side, per triangle or per point", "[geometry]") {
+    // pbrt-v3's rule, point by point: the winding's normal, turned to the side of the interpolated shading
+    // normal (when there is one), then flipped with flipNormals. Shape precomputes it per triangle where
+    // all three vertex normals share a side; this checks both paths against the rule at random points.
+    const Vec3f up(0, 0, 1), tilted = Vec3f(normalize(Vec3(0.3, 0, 1))), down(0, 0, -1);
+    TriangleMesh m;
+    m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    m.triangles = {{0, 1, 2}, {3, 4, 5}, {0, 2, 1}, {3, 5, 4}};
+    // Vertices 0-2 along the winding of triangle 0 (a flat normal field and a curved one would do: the
+    // first two share a normal); vertices 3-5 on both sides: up, tilted, down (the side varies over the face).
+    m.normals = {up, up, tilted, up, tilted, down};
+    const auto rule = [&](uint32_t prim, const Vec2& b, bool flip) {
+        const auto& t = m.triangles[prim];
+        const Vec3 p0(m.positions[t[0]]), p1(m.positions[t[1]]), p2(m.positions[t[2]]);
+        Vec3 ng = normalize(cross(p1 - p0, p2 - p0));
+        const Vec3 N =
+            Vec3(m.normals[t[0]]) * (1 - b.x - b.y) + Vec3(m.normals[t[1]]) * b.x + Vec3(m.normals[t[2]]) * b.y;
+        if (lengthSquared(N) > 1e-20 && dot(ng, N) < 0) ng = -ng;
+        return flip ? -ng : ng;
+    };
+    for (bool flip : {false, true}) {
+        const Shape s = Shape::triangles(m, flip);
+        Pcg32 rng(17, flip);
+        int flipsWithinTriangle = 0;
+        for (uint32_t prim = 0; prim < 4; ++prim) {
+            bool seen[2] = {false, false};
+            for (int i = 0; i < 200; ++i) {
+                const Vec2 b = warp::squareToUniformTriangle(rand2(rng));
+                const Vec3 expected = rule(prim, b, flip);
+                CHECK(s.pointAt(prim, b).ng == expected);
+                CHECK(s.surfaceAt(prim, b).ng == expected);
+                seen[expected.z > 0] = true;
+            }
+            flipsWithinTriangle += seen[0] && seen[1];
+        }
+        // Triangles 1 and 3 (one per winding) are the ones whose side varies over the face.
+        CHECK(flipsWithinTriangle == 2);
+    }
+}
+
+TEST_CASE("dn/du and dn/dv are zero where the three vertex normals are one", "[geometry]") {
+    TriangleMesh m;
+    m.positions = {{0, 0, 0}, {1, 0.1f, 0}, {0.2f, 1, 0.3f}};
+    const Vec3f n = Vec3f(normalize(Vec3(0.1, -0.2, 1)));
+    m.normals = {n, n, n};
+    m.uvs = {{0.1f, 0.2f}, {0.9f, 0.1f}, {0.3f, 0.8f}};
+    m.triangles = {{0, 1, 2}};
+    const Shape s = Shape::triangles(m, false);
+    const SurfaceInteraction si = s.surfaceAt(0, {0.3, 0.2});
+    CHECK(si.dndu == Vec3());
+    CHECK(si.dndv == Vec3());
+    CHECK(length(si.shading.n - Vec3(n)) < 1e-7);
+}
+
 TEST_CASE("ray offsets avoid self-intersection from scene scale 1e-3 to 1e5", "[geometry]") {
     for (double scale : {1e-3, 1.0, 1e3, 1e5}) {
         CAPTURE(scale);

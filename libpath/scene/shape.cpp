@@ -45,11 +45,38 @@ Shape Shape::triangles(TriangleMesh mesh, bool flipNormals) {
 }
 
 void Shape::finishTriangles() {
-    std::vector<double> areas(mesh_.triangles.size());
-    for (size_t i = 0; i < mesh_.triangles.size(); ++i) {
+    const size_t count = mesh_.triangles.size();
+    std::vector<double> areas(count);
+    geometricNormals_.resize(count);
+    if (!mesh_.normals.empty()) {
+        sideVaries_.assign(count, false);
+        normalsVary_.assign(count, false);
+    }
+    for (size_t i = 0; i < count; ++i) {
         const auto& t = mesh_.triangles[i];
         const Vec3 p0 = toD(mesh_.positions[t[0]]), p1 = toD(mesh_.positions[t[1]]), p2 = toD(mesh_.positions[t[2]]);
-        areas[i] = 0.5 * length(cross(p1 - p0, p2 - p0));
+        const Vec3 c = cross(p1 - p0, p2 - p0);
+        areas[i] = 0.5 * length(c);
+        Vec3 ng = normalize(c);
+        if (!mesh_.normals.empty()) {
+            // The geometric normal follows the shading normal's side (pbrt-v3 Triangle): mesh files are
+            // often wound inconsistently, their normals rarely are. With every vertex normal clearly on one
+            // side (|cos| > 1e-3), every interpolation of them inside the triangle is too, even with the few
+            // float ulps by which a hit's barycentrics leave [0, 1]: the side is the triangle's.
+            double lo = 1, hi = -1;
+            for (const uint32_t v : t) {
+                const double side = dot(ng, toD(mesh_.normals[v]));
+                lo = std::min(lo, side);
+                hi = std::max(hi, side);
+            }
+            if (hi < -1e-3)
+                ng = -ng;
+            else if (!(lo > 1e-3))
+                sideVaries_[i] = true;
+            const Vec3f& n0 = mesh_.normals[t[0]];
+            normalsVary_[i] = !(n0 == mesh_.normals[t[1]] && n0 == mesh_.normals[t[2]]);
+        }
+        geometricNormals_[i] = flip_ ? -ng : ng;
     }
     triangleAreas_ = DiscreteDistribution(areas);
     area_ = triangleAreas_.total();
@@ -92,24 +119,31 @@ Shape Shape::disk(const Transform& toWorld, bool flipNormals) {
     return s;
 }
 
+RayEndpoint Shape::trianglePoint(uint32_t prim, const Vec3& p0, const Vec3& p1, const Vec3& p2, double b0, double b1,
+                                 double b2) const {
+    RayEndpoint e;
+    e.p = p0 * b0 + p1 * b1 + p2 * b2;
+    e.magnitude = maxComponent(max(abs(p0), max(abs(p1), abs(p2))));
+    e.ng = geometricNormals_[prim]; // flipNormals applied already
+    if (!sideVaries_.empty() && sideVaries_[prim]) {
+        // flipNormals applies to the side the interpolated shading normal picks (finishTriangles).
+        const auto& tri = mesh_.triangles[prim];
+        const Vec3 N =
+            toD(mesh_.normals[tri[0]]) * b0 + toD(mesh_.normals[tri[1]]) * b1 + toD(mesh_.normals[tri[2]]) * b2;
+        const Vec3 unflipped = flip_ ? -e.ng : e.ng;
+        if (lengthSquared(N) > 1e-20 && dot(unflipped, N) < 0) e.ng = -e.ng;
+    }
+    return e;
+}
+
 RayEndpoint Shape::pointAt(uint32_t prim, const Vec2& coords) const {
     RayEndpoint e;
     switch (kind_) {
     case Kind::Triangles: {
         const auto& tri = mesh_.triangles[prim];
-        const Vec3 p0 = toD(mesh_.positions[tri[0]]), p1 = toD(mesh_.positions[tri[1]]),
-                   p2 = toD(mesh_.positions[tri[2]]);
-        const double b1 = coords.x, b2 = coords.y, b0 = 1 - b1 - b2;
-        e.p = p0 * b0 + p1 * b1 + p2 * b2;
-        e.magnitude = maxComponent(max(abs(p0), max(abs(p1), abs(p2))));
-        e.ng = normalize(cross(p1 - p0, p2 - p0));
-        if (!mesh_.normals.empty()) {
-            // The geometric normal follows the shading normal's side (pbrt-v3 Triangle): mesh files are
-            // often wound inconsistently, their normals rarely are.
-            const Vec3 N = toD(mesh_.normals[tri[0]]) * b0 + toD(mesh_.normals[tri[1]]) * b1 + toD(mesh_.normals[tri[2]]) * b2;
-            if (lengthSquared(N) > 1e-20 && dot(e.ng, N) < 0) e.ng = -e.ng;
-        }
-        break;
+        const double b1 = coords.x, b2 = coords.y;
+        return trianglePoint(prim, toD(mesh_.positions[tri[0]]), toD(mesh_.positions[tri[1]]),
+                             toD(mesh_.positions[tri[2]]), 1 - b1 - b2, b1, b2);
     }
     case Kind::Sphere: {
         const double phi = coords.x * TwoPi, theta = coords.y * Pi;
@@ -137,14 +171,14 @@ SurfaceInteraction Shape::surfaceAt(uint32_t prim, const Vec2& coords) const {
     si.coords = coords;
     switch (kind_) {
     case Kind::Triangles: {
-        const RayEndpoint e = pointAt(prim, coords);
-        si.p = e.p;
-        si.ng = e.ng;
-        si.magnitude = e.magnitude;
         const auto& tri = mesh_.triangles[prim];
         const Vec3 p0 = toD(mesh_.positions[tri[0]]), p1 = toD(mesh_.positions[tri[1]]),
                    p2 = toD(mesh_.positions[tri[2]]);
         const double b1 = coords.x, b2 = coords.y, b0 = 1 - b1 - b2;
+        const RayEndpoint e = trianglePoint(prim, p0, p1, p2, b0, b1, b2);
+        si.p = e.p;
+        si.ng = e.ng;
+        si.magnitude = e.magnitude;
         // Parameterization: the mesh's uvs, or pbrt's default (0,0), (1,0), (1,1).
         Vec2 uv0{0, 0}, uv1{1, 0}, uv2{1, 1};
         if (!mesh_.uvs.empty()) {
@@ -178,10 +212,11 @@ SurfaceInteraction Shape::surfaceAt(uint32_t prim, const Vec2& coords) const {
             const Vec3 n0 = toD(mesh_.normals[tri[0]]), n1 = toD(mesh_.normals[tri[1]]), n2 = toD(mesh_.normals[tri[2]]);
             const Vec3 N = n0 * b0 + n1 * b1 + n2 * b2;
             if (lengthSquared(N) > 1e-20) {
-                // pointAt already turned ng to the side of N (and flipped it with flipNormals).
+                // trianglePoint already turned ng to the side of N (and flipped it with flipNormals).
                 const double sign = flip_ ? -1.0 : 1.0;
                 ns = normalize(N) * sign;
-                if (chart.det != 0) { // zero only on a triangle without area
+                // chart.det is zero only on a triangle without area.
+                if (normalsVary_[prim] && chart.det != 0) {
                     const auto [dNdu, dNdv] = chart.derivatives(n0, n1, n2);
                     // The normal field is the NORMALIZED interpolated normal: differentiate that.
                     const double invLength = 1 / length(N);

@@ -91,6 +91,19 @@ private:
     Kind kind_ = Kind::Triangles;
     TriangleMesh mesh_;
     DiscreteDistribution triangleAreas_;
+    // Per triangle, its unit geometric normal as pointAt returns it, computed once: pointAt runs on every
+    // hit and every light sample. Flipped by flipNormals, and turned to the side of the shading normals
+    // when all three vertex normals lie on one side; where they do not (sideVaries_, only for meshes with
+    // normals), pointAt turns it by the normal interpolated at the point.
+    std::vector<Vec3> geometricNormals_;
+    std::vector<bool> sideVaries_;
+    // Triangles whose three vertex normals differ: only there does the shading normal turn across the
+    // triangle (elsewhere dn/du = dn/dv = 0, and surfaceAt leaves them at zero without computing them).
+    std::vector<bool> normalsVary_;
+
+    // pointAt of a triangle whose vertices (p0, p1, p2) are read already.
+    [[nodiscard]] RayEndpoint trianglePoint(uint32_t prim, const Vec3& p0, const Vec3& p1, const Vec3& p2, double b0,
+                                            double b1, double b2) const;
     Vec3 center_;
     double radius_ = 0;
     Transform toWorld_;

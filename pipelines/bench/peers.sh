@@ -10,6 +10,8 @@
 # data/example-scenes/cornell-box/scene.json, found beside the build (or given as TUNGSTEN_SCENE), renders
 # the same image with fov 19.5 and a square film; max_bounces 65 is lt's maxDepth 65. Runs alternate, lt
 # then Tungsten, so that a drift of the machine's speed reaches both; the last column is lt / Tungsten.
+# With TUNGSTEN, path tracing at equal time as well: EQUAL_TIME seconds (default 60; 0 skips it) on 2 threads
+# each, relMSE of both images against scenes/cornell-box/reference.exr (lt-error).
 # Without TUNGSTEN only lt's figures are printed: run it before and after a change, on an idle machine.
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/../lib/bench.bash" lt-seed
@@ -17,11 +19,13 @@ source "$(dirname "${BASH_SOURCE[0]}")/../lib/bench.bash" lt-seed
 [ -x /usr/bin/time ] || { echo "peers.sh: needs GNU time (/usr/bin/time: apt-get install time)" >&2; exit 1; }
 runs="${RUNS:-3}"
 size="${SIZE:-1024}"
+equal_time="${EQUAL_TIME:-60}"
 tungsten="${1:-}"
 out="$(mktemp -d)"
 trap 'rm -rf "$out"' EXIT
 [[ "$runs" =~ ^[1-9][0-9]*$ ]] || { echo "peers.sh: RUNS must be a whole number > 0" >&2; exit 2; }
 [[ "$size" =~ ^[1-9][0-9]*$ ]] || { echo "peers.sh: SIZE must be a whole number > 0" >&2; exit 2; }
+[[ "$equal_time" =~ ^[0-9]+$ ]] || { echo "peers.sh: EQUAL_TIME must be a whole number of seconds" >&2; exit 2; }
 
 if [ -n "$tungsten" ]; then
   [ -x "$tungsten" ] || { echo "peers.sh: $tungsten is not an executable Tungsten binary" >&2; exit 2; }
@@ -40,7 +44,8 @@ src, out, size = sys.argv[1], sys.argv[2], int(sys.argv[3])
 base = json.load(open(src))
 base["camera"].update({"resolution": [size, size], "fov": 19.5})
 base["renderer"].update({"adaptive_sampling": False, "enable_resume_render": False, "overwrite_output_files": True,
-                         "checkpoint_interval": "0", "timeout": "0", "output_file": "render.png"})
+                         "checkpoint_interval": "0", "timeout": "0", "output_file": "render.png",
+                         "hdr_output_file": "render.pfm"})
 bounces = {"min_bounces": 0, "max_bounces": 65, "enable_light_sampling": True, "enable_two_sided_shading": True}
 for name, integrator in {"pt": {"type": "path_tracer"}, "bdpt": {"type": "bidirectional_path_tracer"},
                          "multiplexed": {"type": "multiplexed_mlt"},
@@ -89,7 +94,7 @@ lt_command() { # METHOD THREADS SCENE
 tungsten_command() { # METHOD THREADS
   local spp=16
   case "$1" in bdpt) spp=4 ;; multiplexed | primary) spp=8 ;; esac
-  cmd=("$tungsten" -t "$2" --spp "$spp" -s 1 -o "$out/tungsten" "$out/tungsten-$1.json")
+  cmd=("$tungsten" -t "$2" --spp "$spp" -s 1 -d "$out/tungsten" "$out/tungsten-$1.json")
 }
 
 echo "$runs runs each, ${size}x$size, $(nproc) cores, $(date -u +%FT%TZ), lt $(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo '?')"
@@ -152,6 +157,24 @@ scene = json.load(open(sys.argv[1]))
 scene["camera"]["resolution"] = [16, 16]
 json.dump(scene, open(sys.argv[2], "w"))
 PY
-  tu_small=("$tungsten" -t 1 --spp 1 -s 1 -o "$out/tungsten" "$out/tungsten-small.json")
+  tu_small=("$tungsten" -t 1 --spp 1 -s 1 -d "$out/tungsten" "$out/tungsten-small.json")
   printf '%-10s %8s ms %6s MB\n' Tungsten "$(startup "${tu_small[@]}")" "$(measure_tungsten "${tu_small[@]}" | cut -d' ' -f2)"
+fi
+
+# Path tracing at equal time: relMSE against the reference (Tungsten's bare "timeout" number means minutes).
+if [ -n "$tungsten" ] && ((equal_time > 0)); then
+  reference="$root/scenes/cornell-box/reference.exr"
+  echo
+  echo "== path tracing for ${equal_time} s on 2 threads, cornell-box ${size}x$size: relMSE against $reference"
+  python3 - "$out/tungsten-pt.json" "$out/tungsten-timed.json" "$equal_time" <<'PY'
+import json, sys
+scene = json.load(open(sys.argv[1]))
+scene["renderer"].update({"timeout": f"{sys.argv[3]}s", "spp": 1 << 20})
+json.dump(scene, open(sys.argv[2], "w"))
+PY
+  measure "$bin/lt-seed" "$box" --method pt --time "$equal_time" --resolution "${size}x$size" --threads 2 -o "$out/timed.lts" > /dev/null
+  measure_tungsten "$tungsten" -t 2 -s 1 -d "$out/tungsten" "$out/tungsten-timed.json" > /dev/null
+  [ -f "$out/tungsten/render.pfm" ] || { echo "peers.sh: Tungsten wrote no render.pfm" >&2; exit 1; }
+  python3 "$root/pipelines/lib/pfm_to_exr.py" "$out/tungsten/render.pfm" "$out/tungsten.exr"
+  "$bin/lt-error" --ref "$reference" "$out/timed.lts" "$out/tungsten.exr"
 fi

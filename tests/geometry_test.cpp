@@ -200,15 +200,18 @@ TEST_CASE("differential geometry matches finite differences", "[geometry]") {
 
 TEST_CASE("a triangle's geometric normal takes its shading normals' side, per triangle or per point", "[geometry]") {
     // pbrt-v3's rule, point by point: the winding's normal, turned to the side of the interpolated shading
-    // normal (when there is one), then flipped with flipNormals. Shape precomputes it per triangle where
-    // all three vertex normals share a side; this checks both paths against the rule at random points.
+    // normal (when there is one), then flipped with flipNormals. Shape decides it once per triangle where
+    // all three vertex normals share a side; this checks both paths against the rule, inside the triangles
+    // and outside them (the manifold walks' re-solved barycentrics may leave a triangle).
     const Vec3f up(0, 0, 1), tilted = Vec3f(normalize(Vec3(0.3, 0, 1))), down(0, 0, -1);
+    const Vec3f grazing = Vec3f(normalize(Vec3(1, 0, 0.002))); // on the side of up, barely
     TriangleMesh m;
-    m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
-    m.triangles = {{0, 1, 2}, {3, 4, 5}, {0, 2, 1}, {3, 5, 4}};
-    // Vertices 0-2 along the winding of triangle 0 (a flat normal field and a curved one would do: the
-    // first two share a normal); vertices 3-5 on both sides: up, tilted, down (the side varies over the face).
-    m.normals = {up, up, tilted, up, tilted, down};
+    m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    // Vertices 0-2: every normal on the side of the winding of triangle 0. Vertices 3-5: on both sides, so
+    // the side varies over the face. Vertices 6-8: on one side, but the third barely, so that just outside
+    // the triangle the interpolated normal crosses to the other side. Then the same with reversed winding.
+    m.normals = {up, up, tilted, up, tilted, down, up, up, grazing};
+    m.triangles = {{0, 1, 2}, {3, 4, 5}, {6, 7, 8}, {0, 2, 1}, {3, 5, 4}, {6, 8, 7}};
     const auto rule = [&](uint32_t prim, const Vec2& b, bool flip) {
         const auto& t = m.triangles[prim];
         const Vec3 p0(m.positions[t[0]]), p1(m.positions[t[1]]), p2(m.positions[t[2]]);
@@ -222,7 +225,7 @@ TEST_CASE("a triangle's geometric normal takes its shading normals' side, per tr
         const Shape s = Shape::triangles(m, flip);
         Pcg32 rng(17, flip);
         int flipsWithinTriangle = 0;
-        for (uint32_t prim = 0; prim < 4; ++prim) {
+        for (uint32_t prim = 0; prim < m.triangles.size(); ++prim) {
             bool seen[2] = {false, false};
             for (int i = 0; i < 200; ++i) {
                 const Vec2 b = warp::squareToUniformTriangle(rand2(rng));
@@ -230,26 +233,41 @@ TEST_CASE("a triangle's geometric normal takes its shading normals' side, per tr
                 CHECK(s.pointAt(prim, b).ng == expected);
                 CHECK(s.surfaceAt(prim, b).ng == expected);
                 seen[expected.z > 0] = true;
+                // Around the triangle, up to 0.1 outside it.
+                const Vec2 around{rng.nextDouble() * 1.2 - 0.1, rng.nextDouble() * 1.2 - 0.1};
+                CHECK(s.pointAt(prim, around).ng == rule(prim, around, flip));
             }
             flipsWithinTriangle += seen[0] && seen[1];
         }
-        // Triangles 1 and 3 (one per winding) are the ones whose side varies over the face.
+        // Triangles 1 and 4 (one per winding) are the ones whose side varies inside the face.
         CHECK(flipsWithinTriangle == 2);
+        // Just outside triangle 2 near its grazing vertex, the rule turns the normal: (b0, b1, b2) =
+        // (-0.01, -0.01, 1.02) gives the interpolated normal a cosine of -0.018 with the winding's.
+        const Vec2 outside{-0.01, 1.02};
+        CHECK(rule(2, outside, flip).z * rule(2, {0.2, 0.2}, flip).z < 0);
+        CHECK(s.pointAt(2, outside).ng == rule(2, outside, flip));
+        CHECK(s.pointAt(5, {1.02, -0.01}).ng == rule(5, {1.02, -0.01}, flip));
     }
 }
 
-TEST_CASE("dn/du and dn/dv are zero where the three vertex normals are one", "[geometry]") {
+TEST_CASE("dn/du and dn/dv are zero exactly where the three vertex normals are one", "[geometry]") {
     TriangleMesh m;
     m.positions = {{0, 0, 0}, {1, 0.1f, 0}, {0.2f, 1, 0.3f}};
-    const Vec3f n = Vec3f(normalize(Vec3(0.1, -0.2, 1)));
-    m.normals = {n, n, n};
     m.uvs = {{0.1f, 0.2f}, {0.9f, 0.1f}, {0.3f, 0.8f}};
     m.triangles = {{0, 1, 2}};
-    const Shape s = Shape::triangles(m, false);
-    const SurfaceInteraction si = s.surfaceAt(0, {0.3, 0.2});
-    CHECK(si.dndu == Vec3());
-    CHECK(si.dndv == Vec3());
-    CHECK(length(si.shading.n - Vec3(n)) < 1e-7);
+    const Vec3f n = Vec3f(normalize(Vec3(0.1, -0.2, 1))), other = Vec3f(normalize(Vec3(-0.3, 0.4, 1)));
+    m.normals = {n, n, n};
+    const SurfaceInteraction flat = Shape::triangles(m, false).surfaceAt(0, {0.3, 0.2});
+    CHECK(flat.dndu == Vec3());
+    CHECK(flat.dndv == Vec3());
+    CHECK(length(flat.shading.n - Vec3(n)) < 1e-7);
+    // Any one vertex normal apart from the other two (each pairing) and the normal field turns.
+    for (int apart = 0; apart < 3; ++apart) {
+        m.normals = {n, n, n};
+        m.normals[size_t(apart)] = other;
+        const SurfaceInteraction si = Shape::triangles(m, false).surfaceAt(0, {0.3, 0.2});
+        CHECK(lengthSquared(si.dndu) + lengthSquared(si.dndv) > 0.01);
+    }
 }
 
 TEST_CASE("ray offsets avoid self-intersection from scene scale 1e-3 to 1e5", "[geometry]") {

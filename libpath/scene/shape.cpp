@@ -16,6 +16,16 @@ namespace {
 
 Vec3 toD(const Vec3f& v) { return Vec3(v); }
 
+// A triangle's geometric normal is turned to its shading normals' side once for the whole triangle when
+// every vertex normal (unit) has a cosine beyond SideMargin on one side, and the coordinates are within
+// InsideMargin of the triangle: then the interpolated normal's cosine is at least
+// SideMargin - 2 InsideMargin (1 + 1e-3) > 0, and the per-point rule gives the same side.
+constexpr double SideMargin = 1e-3;
+constexpr double InsideMargin = 1e-4;
+
+// The unit normal of a triangle's winding (p1 - p0) x (p2 - p0), before any turn to its shading normals.
+Vec3 windingNormal(const Vec3& p0, const Vec3& p1, const Vec3& p2) { return normalize(cross(p1 - p0, p2 - p0)); }
+
 // A chart (u, v) that is linear over a triangle, given by its values at the three vertices. The
 // derivatives of any other quantity linear over the triangle (position, interpolated normal) follow
 // from its vertex values by Cramer's rule on the edges to vertex 2 (pbrt-v3 Triangle::Intersect).
@@ -55,23 +65,24 @@ void Shape::finishTriangles() {
     for (size_t i = 0; i < count; ++i) {
         const auto& t = mesh_.triangles[i];
         const Vec3 p0 = toD(mesh_.positions[t[0]]), p1 = toD(mesh_.positions[t[1]]), p2 = toD(mesh_.positions[t[2]]);
-        const Vec3 c = cross(p1 - p0, p2 - p0);
-        areas[i] = 0.5 * length(c);
-        Vec3 ng = normalize(c);
+        areas[i] = 0.5 * length(cross(p1 - p0, p2 - p0));
+        Vec3 ng = windingNormal(p0, p1, p2);
         if (!mesh_.normals.empty()) {
             // The geometric normal follows the shading normal's side (pbrt-v3 Triangle): mesh files are
-            // often wound inconsistently, their normals rarely are. With every vertex normal clearly on one
-            // side (|cos| > 1e-3), every interpolation of them inside the triangle is too, even with the few
-            // float ulps by which a hit's barycentrics leave [0, 1]: the side is the triangle's.
-            double lo = 1, hi = -1;
+            // often wound inconsistently, their normals rarely are. Where all three vertex normals are unit
+            // and on one side by more than SideMargin, so is every interpolation of them at coordinates
+            // within InsideMargin of the triangle (trianglePoint): the side is the triangle's.
+            bool allAbove = true, allBelow = true;
             for (const uint32_t v : t) {
-                const double side = dot(ng, toD(mesh_.normals[v]));
-                lo = std::min(lo, side);
-                hi = std::max(hi, side);
+                const Vec3 n = toD(mesh_.normals[v]);
+                const bool unit = std::abs(lengthSquared(n) - 1) < 1e-3;
+                const double side = dot(ng, n);
+                allAbove = allAbove && unit && side > SideMargin; // false for NaN as well
+                allBelow = allBelow && unit && side < -SideMargin;
             }
-            if (hi < -1e-3)
+            if (allBelow)
                 ng = -ng;
-            else if (!(lo > 1e-3))
+            else if (!allAbove)
                 sideVaries_[i] = true;
             const Vec3f& n0 = mesh_.normals[t[0]];
             normalsVary_[i] = !(n0 == mesh_.normals[t[1]] && n0 == mesh_.normals[t[2]]);
@@ -125,13 +136,18 @@ RayEndpoint Shape::trianglePoint(uint32_t prim, const Vec3& p0, const Vec3& p1, 
     e.p = p0 * b0 + p1 * b1 + p2 * b2;
     e.magnitude = maxComponent(max(abs(p0), max(abs(p1), abs(p2))));
     e.ng = geometricNormals_[prim]; // flipNormals applied already
-    if (!sideVaries_.empty() && sideVaries_[prim]) {
-        // flipNormals applies to the side the interpolated shading normal picks (finishTriangles).
+    // Coordinates may lie outside the triangle: the manifold walks re-solve a hit's barycentrics in double
+    // without the inside test (manifold/manifold_walk.cpp), so on a small triangle they can be off by far
+    // more than float ulps. There the side is decided at the point, as for triangles whose side varies.
+    const bool inside = b0 >= -InsideMargin && b1 >= -InsideMargin && b2 >= -InsideMargin;
+    if (!sideVaries_.empty() && (sideVaries_[prim] || !inside)) {
+        // The rule at the point (finishTriangles), then flipNormals.
         const auto& tri = mesh_.triangles[prim];
         const Vec3 N =
             toD(mesh_.normals[tri[0]]) * b0 + toD(mesh_.normals[tri[1]]) * b1 + toD(mesh_.normals[tri[2]]) * b2;
-        const Vec3 unflipped = flip_ ? -e.ng : e.ng;
-        if (lengthSquared(N) > 1e-20 && dot(unflipped, N) < 0) e.ng = -e.ng;
+        e.ng = windingNormal(p0, p1, p2);
+        if (lengthSquared(N) > 1e-20 && dot(e.ng, N) < 0) e.ng = -e.ng;
+        if (flip_) e.ng = -e.ng;
     }
     return e;
 }

@@ -93,8 +93,8 @@ private:
     DiscreteDistribution triangleAreas_;
     // Per triangle, its unit geometric normal as pointAt returns it, computed once: pointAt runs on every
     // hit and every light sample. Flipped by flipNormals, and turned to the side of the shading normals
-    // when all three vertex normals lie on one side; where they do not (sideVaries_, only for meshes with
-    // normals), pointAt turns it by the normal interpolated at the point.
+    // when all three vertex normals lie clearly on one side; where they do not (sideVaries_, only for meshes
+    // with normals), and at coordinates outside the triangle, pointAt decides the side at the point.
     std::vector<Vec3> geometricNormals_;
     std::vector<bool> sideVaries_;
     // Triangles whose three vertex normals differ: only there does the shading normal turn across the

@@ -47,9 +47,12 @@ base["renderer"].update({"adaptive_sampling": False, "enable_resume_render": Fal
                          "checkpoint_interval": "0", "timeout": "0", "output_file": "render.png",
                          "hdr_output_file": "render.pfm"})
 bounces = {"min_bounces": 0, "max_bounces": 65, "enable_light_sampling": True, "enable_two_sided_shading": True}
+# The chains at lt's large-step probability (0.3, Mitsuba's; Tungsten's default is 0.1): a large step is a
+# fresh path, a small one a perturbation, so the mix sets the work of a mutation.
 for name, integrator in {"pt": {"type": "path_tracer"}, "bdpt": {"type": "bidirectional_path_tracer"},
-                         "multiplexed": {"type": "multiplexed_mlt"},
-                         "primary": {"type": "kelemen_mlt", "bidirectional": True}}.items():
+                         "multiplexed": {"type": "multiplexed_mlt", "large_step_probability": 0.3},
+                         "primary": {"type": "kelemen_mlt", "bidirectional": True,
+                                     "large_step_probability": 0.3}}.items():
     scene = dict(base)
     scene["integrator"] = dict(bounces, **integrator)
     # Every shape of the example is inline (quads and cubes): the files need no directory of their own.

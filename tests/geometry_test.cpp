@@ -242,7 +242,8 @@ TEST_CASE("a triangle's geometric normal takes its shading normals' side, per tr
         // Triangles 1 and 4 (one per winding) are the ones whose side varies inside the face.
         CHECK(flipsWithinTriangle == 2);
         // Just outside triangle 2 near its grazing vertex, the rule turns the normal: (b0, b1, b2) =
-        // (-0.01, -0.01, 1.02) gives the interpolated normal a cosine of -0.018 with the winding's.
+        // (-0.01, -0.01, 1.02) gives the interpolated normal a component of -0.02 + 1.02 x 0.002 = -0.018
+        // along the winding's normal.
         const Vec2 outside{-0.01, 1.02};
         CHECK(rule(2, outside, flip).z * rule(2, {0.2, 0.2}, flip).z < 0);
         CHECK(s.pointAt(2, outside).ng == rule(2, outside, flip));
@@ -260,6 +261,7 @@ TEST_CASE("dn/du and dn/dv are zero exactly where the three vertex normals are o
     const SurfaceInteraction flat = Shape::triangles(m, false).surfaceAt(0, {0.3, 0.2});
     CHECK(flat.dndu == Vec3());
     CHECK(flat.dndv == Vec3());
+    // The float normal's length is 1 within its rounding (3 components, 2^-24 each): about 6e-8.
     CHECK(length(flat.shading.n - Vec3(n)) < 1e-7);
     // Any one vertex normal apart from the other two (each pairing) and the normal field turns.
     for (int apart = 0; apart < 3; ++apart) {

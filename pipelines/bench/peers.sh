@@ -11,7 +11,10 @@
 # the same image with fov 19.5 and a square film; max_bounces 65 is lt's maxDepth 65. Runs alternate, lt
 # then Tungsten, so that a drift of the machine's speed reaches both; the last column is lt / Tungsten.
 # With TUNGSTEN, path tracing at equal time as well: EQUAL_TIME seconds (default 60; 0 skips it) on 2 threads
-# each, relMSE of both images against scenes/cornell-box/reference.exr (lt-error).
+# each, relMSE of both images against scenes/cornell-box/reference.exr (lt-error), and each renderer's wall
+# time (Tungsten finishes the step of samples it is in when its timeout comes). Tungsten built against
+# Debian's OpenEXR 3 writes its HDR image only as PFM (its CMake looks for OpenEXR 2's IlmImf): oiiotool
+# (Debian's openimageio-tools) converts it to EXR for lt-error.
 # Without TUNGSTEN only lt's figures are printed: run it before and after a change, on an idle machine.
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/../lib/bench.bash" lt-seed
@@ -29,6 +32,9 @@ trap 'rm -rf "$out"' EXIT
 
 if [ -n "$tungsten" ]; then
   [ -x "$tungsten" ] || { echo "peers.sh: $tungsten is not an executable Tungsten binary" >&2; exit 2; }
+  if ((equal_time > 0)) && ! command -v oiiotool > /dev/null; then
+    echo "peers.sh: the equal-time run needs oiiotool (apt-get install openimageio-tools), or EQUAL_TIME=0" >&2; exit 1
+  fi
   scene_json="${TUNGSTEN_SCENE:-}"
   if [ -z "$scene_json" ]; then
     for d in "$(dirname "$tungsten")"/{.,..,../..,../../..}; do
@@ -172,12 +178,16 @@ if [ -n "$tungsten" ] && ((equal_time > 0)); then
   python3 - "$out/tungsten-pt.json" "$out/tungsten-timed.json" "$equal_time" <<'PY'
 import json, sys
 scene = json.load(open(sys.argv[1]))
-scene["renderer"].update({"timeout": f"{sys.argv[3]}s", "spp": 1 << 20})
+# Tungsten checks its timeout between steps of spp_step samples per pixel (16 in the example scene, which
+# overran a 3 s timeout to 16 s at 1024^2): one spp per step keeps its time close to lt's.
+scene["renderer"].update({"timeout": f"{sys.argv[3]}s", "spp": 1 << 20, "spp_step": 1})
 json.dump(scene, open(sys.argv[2], "w"))
 PY
   measure "$bin/lt-seed" "$box" --method pt --time "$equal_time" --resolution "${size}x$size" --threads 2 -o "$out/timed.lts" > /dev/null
+  echo "lt: $(tail -1 "$out/log")"
   measure_tungsten "$tungsten" -t 2 -s 1 -d "$out/tungsten" "$out/tungsten-timed.json" > /dev/null
+  echo "Tungsten: $(grep -o 'Render time.*' "$out/log" | tail -1)"
   [ -f "$out/tungsten/render.pfm" ] || { echo "peers.sh: Tungsten wrote no render.pfm" >&2; exit 1; }
-  python3 "$root/pipelines/lib/pfm_to_exr.py" "$out/tungsten/render.pfm" "$out/tungsten.exr"
+  oiiotool "$out/tungsten/render.pfm" -o "$out/tungsten.exr"
   "$bin/lt-error" --ref "$reference" "$out/timed.lts" "$out/tungsten.exr"
 fi

@@ -39,8 +39,9 @@ TEST_CASE("the chains agree with BDPT in a room lit through a door ajar", "[mcmc
 
 TEST_CASE("multiplexed chains reach a path length the start-up missed", "[mcmc][slow]") {
     // The tiny lamp seen directly is the only light of length 1 (camera to emitter), and a random raster
-    // position hits it with probability ~3e-4 at 128 x 96. With 20 start-up samples per length on average
-    // (70 at length 1, primary_space_chains.h) the start-up almost surely misses it, so no chain can start there; when
+    // position hits it with probability ~3e-4 at 128 x 96. With a budget of 20 start-up samples per length on
+    // average (70 at length 1, of which the pilot draws 8 and Neyman allocation none while length 1 has shown no
+    // spread, primary_space_chains.h) the start-up almost surely misses it, so no chain can start there; when
     // chains were grouped by length, the lamp then rendered black. With the length in the chain's state, large steps
     // propose length 1 with probability at least LengthFloor / (1 + 1/2 + ... + 1/6) = 4 % and find the lamp: over 4M
     // mutations (1.2M large steps, ~49 000 at length 1) about 15 hits are expected, so P(none) ~ 3e-7.

@@ -45,6 +45,89 @@ TEST_CASE("the normalization estimate: strata, a previous run's mean, standard e
     CHECK(seeded.stratumStandardError(0) == Approx(std::sqrt(2.0 / 100))); // variance of {4, 6} is 2
 }
 
+TEST_CASE("Neyman allocation: samples in proportion to deviation over the square root of cost, within the work",
+          "[mcmc]") {
+    // sigma / sqrt(c) = 0, 2, 0.5, 1/6; sum sigma sqrt(c) = 0 + 2 + 2 + 1.5 = 5.5.
+    const std::vector<double> deviation{0, 2, 1, 0.5}, cost{1, 1, 4, 9};
+    const auto work = [&](const std::vector<uint64_t>& n) {
+        double w = 0;
+        for (size_t k = 0; k < n.size(); ++k)
+            w += double(n[k]) * cost[k];
+        return w;
+    };
+    const auto fresh = neymanAllocation(deviation, cost, {0, 0, 0, 0}, 1000);
+    const double exact[] = {0, 1000 * 2 / 5.5, 1000 * 0.5 / 5.5, 1000 / 6.0 / 5.5};
+    for (size_t k = 0; k < 4; ++k) {
+        CHECK(double(fresh[k]) <= exact[k]);
+        CHECK(double(fresh[k]) > exact[k] - 1);
+    }
+    CHECK(work(fresh) <= 1000);
+    // Stratum 1 already holds more than its share of the total work (2000): it gets none, and the others'
+    // shortfall (727 + 545) is scaled down to the 1000 given, keeping their ratio 3.
+    const auto topUp = neymanAllocation(deviation, cost, {0, 1000, 0, 0}, 1000);
+    CHECK(topUp[0] == 0);
+    CHECK(topUp[1] == 0);
+    CHECK(double(topUp[2]) == Approx(2000 * 0.5 / 5.5 * 1000 / (2000 * (0.5 / 5.5 * 4 + 1 / 6.0 / 5.5 * 9))).margin(1));
+    CHECK(double(topUp[2]) / double(topUp[3]) == Approx(3).epsilon(0.03));
+    CHECK(work(topUp) <= 1000);
+    CHECK(work(topUp) > 1000 - 4 - 9);
+    // No spread seen anywhere: nothing to allocate by.
+    CHECK(neymanAllocation({0, 0, 0, 0}, cost, {5, 5, 5, 5}, 1000) == std::vector<uint64_t>(4, 0));
+}
+
+TEST_CASE("the multiplexed start-up spends its work where b's spread is, and stops once b is known to the error asked",
+          "[mcmc]") {
+    auto scene = loadScene(shippedScene("cornell-box"));
+    scene->camera = scene->camera.withResolution(32, 32);
+    const auto startup = [&](double error) {
+        SampleFilm film(scene->camera);
+        PrimarySpaceSettings ps;
+        ps.space = PrimarySpace::Multiplexed;
+        ps.paths.maxDepth = scene->integrator.maxDepth;
+        ps.startupSamples = 1000;
+        ps.startupError = error;
+        ChainRunSettings rs;
+        rs.mutations = 256;
+        rs.chains = 4;
+        rs.threads = 2;
+        rs.seed = 3;
+        return runPrimarySpaceChains(*scene, ps, rs, film, {}, nullptr);
+    };
+    // The whole budget: 1000 x 33 / k samples of length k (k = 1 .. 65), k + 1 rays each.
+    const auto all = startup(0);
+    CHECK(all.startupWork > 0.99);
+    CHECK(all.startupWork <= 1.0);
+    // The even spread of that budget would reach Var(b) = sum_k sigma_k^2 / n_k with the same sigma_k. On
+    // cornell-box the light seen directly (length 1) holds most of the spread and costs least: the Neyman
+    // allocation's variance at equal work is 1/20 of the even spread's (sigma_k from a 3M-sample start-up);
+    // with the pilot's even eighth, a quarter is an upper bound that a broken allocation (even, or
+    // proportional to b_k) exceeds.
+    const NormalizationEstimate& b = all.normalization;
+    double even = 0;
+    for (size_t k = 1; k < b.strata(); ++k) {
+        const double sigma = b.stratumDeviation(k);
+        even += sigma * sigma / (1000.0 * 33 / double(k));
+    }
+    // Relative variances (the run's few large steps moved b by far less than its error).
+    even /= b.b() * b.b();
+    const double variance = all.startupError * all.startupError;
+    INFO("Var(b) / b^2 " << variance << " at the start-up's end, the even spread's " << even);
+    CHECK(variance < 0.25 * even);
+
+    // Asked for twice the whole budget's error: the error falls as 1 / sqrt(work), so a quarter of the work
+    // should do. It stops once there, after the round of a quarter or of a half (the rounds double the
+    // work), and its b agrees with the whole budget's.
+    const double asked = 2 * all.startupError;
+    const auto early = startup(asked);
+    CHECK(early.startupError <= asked);
+    CHECK(early.startupWork <= 0.5);
+    const double z = (early.normalization.b() - all.normalization.b()) /
+                     std::hypot(early.startupError * early.normalization.b(), all.startupError * all.normalization.b());
+    INFO("b " << early.normalization.b() << " after " << early.startupWork << " of the budget, " << b.b()
+              << " after all of it: z = " << z);
+    CHECK(std::abs(z) < 3);
+}
+
 TEST_CASE("a seed file's b needs its sample count, and says which file lacks it", "[mcmc]") {
     const auto content = [](std::vector<std::string> rows, std::vector<double> values, std::string name) {
         file::Content c;
@@ -103,7 +186,8 @@ TEST_CASE("missed small steps drawn at once have the variance of the steps they 
     // 0.11) never wrap. The sample variance of N draws has standard error var sqrt(2 / (N - 1)) (normal
     // sums; slightly less for the platykurtic few-step sums): 5 of them is the tolerance.
     const SmallStepKernel k;
-    const double second = k.s2 * k.s2 * (1 - (k.s1 / k.s2) * (k.s1 / k.s2)) / (2 * std::log(k.s2 / k.s1));
+    const double second =
+        k.s2() * k.s2() * (1 - (k.s1() / k.s2()) * (k.s1() / k.s2())) / (2 * std::log(k.s2() / k.s1()));
     Pcg32 rng(9, 9);
     const int draws = 40000;
     for (const uint64_t n : {uint64_t(1), uint64_t(4), SmallStepKernel::ExactSteps, SmallStepKernel::ExactSteps + 1,
@@ -146,7 +230,7 @@ TEST_CASE("a rejected proposal is no small step the unread coordinates missed", 
         u.startStream(SampleGenerator::CameraStream);
         (void)u.next1D();
         const double d = std::abs(u.next1D() - unread);
-        beyond += std::min(d, 1 - d) > k.s2 * (1 + 1e-12);
+        beyond += std::min(d, 1 - d) > k.s2() * (1 + 1e-12);
     }
     CHECK(beyond == 0);
 }

@@ -59,15 +59,15 @@ TEST_CASE("primary sample vector: rejection restores, streams are independent, l
     for (int i = 0; i < 3; ++i) {
         const double v = u.next1D();
         const double d = std::abs(v - cam[size_t(i)]);
-        CHECK(std::min(d, 1 - d) <= SmallStepKernel{}.s2 + 1e-15);
-        CHECK(std::min(d, 1 - d) >= SmallStepKernel{}.s1 - 1e-15);
+        CHECK(std::min(d, 1 - d) <= SmallStepKernel{}.s2() + 1e-15);
+        CHECK(std::min(d, 1 - d) >= SmallStepKernel{}.s1() - 1e-15);
     }
     // ... reading more camera numbers than before does not shift the light stream ...
     (void)u.next1D();
     u.startStream(SampleGenerator::LightStream);
     const double l0 = u.next1D();
     const double d = std::abs(l0 - light[0]);
-    CHECK(std::min(d, 1 - d) <= SmallStepKernel{}.s2 + 1e-15);
+    CHECK(std::min(d, 1 - d) <= SmallStepKernel{}.s2() + 1e-15);
     // ... and rejection restores exactly what the proposal changed.
     u.reject();
     for (int i = 0; i < 3; ++i)
@@ -92,17 +92,17 @@ TEST_CASE("Kelemen's small step is symmetric and bounded", "[mcmc]") {
     double sum = 0, sum2 = 0, logSum = 0;
     for (int i = 0; i < n; ++i) {
         const double o = k.mutate(0.5, rng) - 0.5;
-        REQUIRE(std::abs(o) >= k.s1 * (1 - 1e-12));
-        REQUIRE(std::abs(o) <= k.s2 * (1 + 1e-12));
+        REQUIRE(std::abs(o) >= k.s1() * (1 - 1e-12));
+        REQUIRE(std::abs(o) <= k.s2() * (1 + 1e-12));
         sum += o;
         sum2 += o * o;
         logSum += std::log(std::abs(o));
     }
     const double se = std::sqrt(sum2 / n / n);
     CHECK(std::abs(sum / n) < 5 * se);
-    const double logRange = std::log(k.s2 / k.s1);
+    const double logRange = std::log(k.s2() / k.s1());
     const double logSe = logRange / std::sqrt(12.0 * n); // standard error of the mean of a uniform
-    CHECK(std::abs(logSum / n - 0.5 * (std::log(k.s1) + std::log(k.s2))) < 5 * logSe);
+    CHECK(std::abs(logSum / n - 0.5 * (std::log(k.s1()) + std::log(k.s2()))) < 5 * logSe);
 }
 
 TEST_CASE("stationarity on a tiny primary space whose dimension changes with the state", "[mcmc]") {

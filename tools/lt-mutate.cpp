@@ -43,8 +43,8 @@ int main(int argc, char** argv) {
     std::string scenePath, seedsPath, out, space = "path", resolution, snapshotTimes, snapshotMutations,
                                            strategies = "auto", dumpPaths, streamPath;
     uint64_t mutations = 0, seed = 0, startupSamples = 0;
-    double timeLimit = 0, mutationsPerPixel = 0, largeStep = 0.3, refineB = 1.0 / 16, lambda = 50, hsltGamma = 0.1,
-           hsltStratify = 0.02;
+    double timeLimit = 0, mutationsPerPixel = 0, largeStep = 0.3, startupError = 0.005, refineB = 1.0 / 16, lambda = 50,
+           hsltGamma = 0.1, hsltStratify = 0.02;
     int chains = 256, threads = 0, maxDepth = -2, unbounded = 12, round = 64;
     size_t dumpEvery = 0;
     bool quiet = false;
@@ -101,10 +101,16 @@ int main(int argc, char** argv) {
     app.add_option("--large-step", largeStep, "probability of a large step (default 0.3, Mitsuba's)")
         ->check(CLI::Range(0.0, 1.0));
     app.add_option("--startup-samples", startupSamples,
-                   "independent samples that first estimate b and seed the chains (default 100000; multiplexed: per "
-                   "path length on average, default 20000, spread in inverse proportion to the length so that "
-                   "each length gets the same work; path space without a seed file: BDPT samples)")
+                   "independent samples that first estimate b and seed the chains, at most (default 100000; "
+                   "multiplexed: per path length on average, default 20000, the same work for each length; path "
+                   "space without a seed file: BDPT samples, all of them). The primary spaces spend 1/8 of it "
+                   "evenly, then more where b's spread is (Neyman allocation over the lengths), and stop once b is "
+                   "known to --startup-error")
         ->check(lt::tool::PositiveNumber);
+    app.add_option("--startup-error", startupError,
+                   "primary spaces: the start-up stops once b's relative standard error is at most this (default "
+                   "0.005; 0 spends all of --startup-samples). The large steps refine b during the run")
+        ->check(CLI::Range(0.0, 1.0));
     app.add_option("--refine-b", refineB,
                    "path space: independent BDPT samples per mutation that keep refining b during the run (default "
                    "0.0625, one per 16 mutations of a chain; 0 keeps the seed run's b). The primary spaces refine b "
@@ -214,6 +220,7 @@ int main(int argc, char** argv) {
         ps.unboundedEdges = unbounded;
         ps.largeStepProbability = largeStep;
         ps.startupSamples = startupSamples;
+        ps.startupError = startupError;
         if (!quiet && !pathSpace && ps.space == lt::PrimarySpace::Multiplexed && ps.paths.maxDepth < 0)
             std::cerr << "lt-mutate: warning: the max depth is unbounded; multiplexed chains cover paths of up to "
                       << unbounded << " edges (--max-length-unbounded)\n";
@@ -238,8 +245,9 @@ int main(int argc, char** argv) {
                                  {"max_depth", ps.paths.maxDepth},
                                  {"rr_depth", ps.paths.rrDepth},
                                  {"large_step", largeStep},
-                                 {"small_step", {{"s1", ps.smallStep.s1}, {"s2", ps.smallStep.s2}}},
+                                 {"small_step", {{"s1", ps.smallStep.s1()}, {"s2", ps.smallStep.s2()}}},
                                  {"startup_samples", startupSamples},
+                                 {"startup_error", startupError},
                                  {"round", round},
                                  {"snapshots", snapshotTimes.empty() ? snapshotMutations : snapshotTimes},
                                  {"resolution", {scene->camera.film().width, scene->camera.film().height}},
@@ -261,6 +269,7 @@ int main(int argc, char** argv) {
         if (pathSpace) {
             params.erase("large_step");
             params.erase("small_step");
+            params.erase("startup_error");
             params["refine_b"] = refineB;
             if (!seeds.paths.empty()) params.erase("startup_samples");
             features = lt::analyzeScene(*scene);
@@ -396,6 +405,10 @@ int main(int argc, char** argv) {
                                                             {"b_samples", double(b.samples())},
                                                             {"startup_samples", double(stats.startupSamples)}};
         if (pathSpace) norm.emplace_back("unusable_seeds", double(stats.unusableSeeds));
+        if (!pathSpace) {
+            norm.emplace_back("startup_work", stats.startupWork);
+            norm.emplace_back("startup_relative_standard_error", stats.startupError);
+        }
         if (pathTarget) norm.emplace_back("film_b", stats.b);
         if (seedB >= 0) norm.emplace_back("b_seed_file", seedB);
         writer.writeStats(lt::file::valueTable("normalization", norm));
@@ -429,7 +442,11 @@ int main(int argc, char** argv) {
                 std::cerr << " (standard error unknown)";
             std::cerr << " from " << b.samples() << " samples (" << stats.startupSamples
                       << (pathSpace ? " of the seed run" : " of the start-up") << ", "
-                      << b.samples() - stats.startupSamples << " during the run)" << std::setprecision(6);
+                      << b.samples() - stats.startupSamples << " during the run)";
+            if (!pathSpace)
+                std::cerr << "; the start-up ended at b +- " << std::setprecision(2) << 100 * stats.startupError
+                          << "% after " << std::lround(100 * stats.startupWork) << "% of its budget";
+            std::cerr << std::setprecision(6);
             if (pathSpace)
                 std::cerr << "; chains started from " << seeds.paths.size() << " seed paths (" << stats.unusableSeeds
                           << " unusable draws skipped)";

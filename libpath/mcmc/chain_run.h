@@ -60,6 +60,8 @@ struct ChainRunStats : RunRecord {
     // during the run (multiplexed: one stratum per path length, index = edges).
     NormalizationEstimate normalization;
     uint64_t startupSamples = 0; // samples of b the start-up drew (path space: of the seed run)
+    double startupWork = 0;  // primary spaces: the start-up's work over its budget (it ends early once b is precise)
+    double startupError = 0; // primary spaces: b's relative standard error when the start-up ended
     // multiplexed, per path length (index = edges): chains started there, and mutations spent there
     std::vector<uint64_t> chainsPerLength, mutationsPerLength;
     uint64_t unusableSeeds = 0; // path space: seed draws that did not re-create in the scene

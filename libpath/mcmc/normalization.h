@@ -55,8 +55,13 @@ public:
     [[nodiscard]] double relativeStandardError() const;
     // Standard error of b_k (NaN as above).
     [[nodiscard]] double stratumStandardError(size_t k) const;
+    // Standard deviation of one sample of b_k (NaN as above; 0 without samples).
+    [[nodiscard]] double stratumDeviation(size_t k) const;
 
 private:
+    // Variance of one sample of b_k (NaN while fewer than two values are known; 0 without samples).
+    [[nodiscard]] double stratumVariance(size_t k) const;
+
     struct Stratum {
         uint64_t count = 0; // samples, including those of previous estimates
         uint64_t known = 0; // samples whose values (and so spread) are known
@@ -64,5 +69,14 @@ private:
     };
     std::vector<Stratum> strata_;
 };
+
+// Neyman allocation with costs (Cochran, Sampling Techniques, 3rd ed., Sec. 5.5): for a given work
+// sum_k n_k c_k, Var(b) = sum_k sigma_k^2 / n_k is least with n_k proportional to sigma_k / sqrt(c_k).
+// Given the samples each stratum has (`have`), their deviations and costs per sample, returns the samples
+// to add to each, at most `work` in all, that bring the counts toward that allocation for the total work
+// (what `have` cost plus `work`): a stratum the allocation gives fewer than it has gets none. All zero when
+// every deviation is zero.
+std::vector<uint64_t> neymanAllocation(const std::vector<double>& deviation, const std::vector<double>& cost,
+                                       const std::vector<uint64_t>& have, double work);
 
 } // namespace lt

@@ -6,7 +6,7 @@ namespace lt {
 
 double SmallStepKernel::mutate(double u, Pcg32& rng) const {
     const double xi = rng.nextDouble();
-    const double offset = s2 * std::exp(-std::log(s2 / s1) * rng.nextDouble());
+    const double offset = s2_ * std::exp(-logRatio_ * rng.nextDouble());
     double v = xi < 0.5 ? u + offset : u - offset;
     v -= std::floor(v);
     return v < 1.0 ? v : 0.0; // floor of a tiny negative number can round v up to exactly 1
@@ -19,8 +19,7 @@ double SmallStepKernel::mutate(double u, uint64_t n, Pcg32& rng) const {
         return u;
     }
     // E[offset^2] for offset = s2 exp(-L xi), L = ln(s2 / s1), xi uniform: s2^2 (1 - e^(-2L)) / (2L).
-    const double L = std::log(s2 / s1);
-    const double variance = s2 * s2 * (1 - (s1 * s1) / (s2 * s2)) / (2 * L);
+    const double variance = s2_ * s2_ * (1 - (s1_ * s1_) / (s2_ * s2_)) / (2 * logRatio_);
     double v = u + std::sqrt(variance * double(n)) * standardNormal(rng);
     v -= std::floor(v);
     return v < 1.0 ? v : 0.0;
@@ -32,6 +31,7 @@ PrimarySampleVector::PrimarySampleVector(Pcg32 rng, Pcg32 init, SmallStepKernel 
 void PrimarySampleVector::startIteration(bool largeStep) {
     initial_ = false;
     ++iteration_;
+    changed_.clear();
     largeStep_ = largeStep;
     restart();
 }
@@ -41,11 +41,11 @@ void PrimarySampleVector::accept() {
 }
 
 void PrimarySampleVector::reject() {
-    for (auto& c : x_)
-        if (c.modified == iteration_) {
-            c.value = c.backup;
-            c.modified = c.backupModified;
-        }
+    for (const size_t i : changed_) {
+        x_[i].value = x_[i].backup;
+        x_[i].modified = x_[i].backupModified;
+    }
+    changed_.clear();
     // In the textbook chain a rejected proposal leaves EVERY coordinate as it was, the unread ones too, so
     // the rejected iteration is no step they missed: it does not count (pbrt-v3's MLTSampler::Reject
     // does the same). Counting it gave coordinates unread for a while (a multiplexed chain's light
@@ -76,6 +76,7 @@ PrimarySampleVector::Coordinate& PrimarySampleVector::prepare(size_t index) {
     if (index >= x_.size()) x_.resize(index + 1);
     Coordinate& c = x_[index];
     if (c.modified == iteration_) return c;
+    if (!initial_) changed_.push_back(index);
     c.backup = c.value;
     c.backupModified = c.modified;
     if (c.modified == Never) {

@@ -12,6 +12,7 @@
 // connection) keep the subpaths' numbers apart, so a longer camera subpath does not shift the light subpath's numbers.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -22,8 +23,12 @@ namespace lt {
 
 // Kelemen's small step: u + or - s2 exp(-ln(s2 / s1) xi), wrapped to [0, 1) (Kelemen et al. 2002; MCMC survey,
 // Sec. 4.1), with s1 = 1/1024 and s2 = 1/64 by default. Symmetric: the density of the offset depends on |offset| only.
-struct SmallStepKernel {
-    double s1 = 1.0 / 1024.0, s2 = 1.0 / 64.0;
+class SmallStepKernel {
+public:
+    explicit SmallStepKernel(double s1 = 1.0 / 1024.0, double s2 = 1.0 / 64.0)
+        : s1_(s1), s2_(s2), logRatio_(std::log(s2 / s1)) {}
+    [[nodiscard]] double s1() const { return s1_; }
+    [[nodiscard]] double s2() const { return s2_; }
     [[nodiscard]] double mutate(double u, Pcg32& rng) const;
     // n small steps at once. Up to ExactSteps they are drawn one by one; beyond, their sum is drawn as the
     // normal of the same variance n E[offset^2] (central limit: the excess kurtosis of one offset is
@@ -32,13 +37,17 @@ struct SmallStepKernel {
     // 10^5 exponentials when it is read again.
     static constexpr uint64_t ExactSteps = 16;
     [[nodiscard]] double mutate(double u, uint64_t n, Pcg32& rng) const;
+
+private:
+    double s1_, s2_;
+    double logRatio_; // ln(s2 / s1), once: the small steps are most of a chain's random numbers
 };
 
 class PrimarySampleVector final : public SampleGenerator {
 public:
     // `rng` draws the chain's mutations; `init` draws the coordinates of the initial state (a bootstrap
     // sample re-created from its own stream, so chains started from the same sample still differ).
-    PrimarySampleVector(Pcg32 rng, Pcg32 init, SmallStepKernel kernel = {});
+    PrimarySampleVector(Pcg32 rng, Pcg32 init, SmallStepKernel kernel = SmallStepKernel());
 
     // Begin a proposal: iteration k + 1, a large step (all coordinates fresh) or a small step.
     void startIteration(bool largeStep);
@@ -72,6 +81,7 @@ private:
     Pcg32 rng_, init_;
     SmallStepKernel kernel_;
     std::vector<Coordinate> x_;
+    std::vector<size_t> changed_;                // coordinates the current proposal changed: those reject() restores
     uint64_t iteration_ = 0, lastLargeStep_ = 0; // iteration_ counts accepted proposals and the current one
     bool initial_ = true;                        // no proposal yet: reading the initial state
     bool largeStep_ = true;

@@ -46,6 +46,9 @@ public:
             position_.target = evaluate(edges_, position_.contributions);
         }
         Pcg32& rng = u_.rng();
+        // One clock reading per proposal: each is charged the time since the previous one ended (a
+        // proposal costs about a microsecond, two readings of the clock were 3 % of it).
+        auto t0 = std::chrono::steady_clock::now();
         uint64_t i = 0;
         for (; i < n; ++i) {
             // A time limit or Ctrl-C ends the round early, so a slow round cannot overshoot; only runs
@@ -53,7 +56,6 @@ public:
             if (i % 16 == 15 && timeUp()) break;
             const bool large = rng.nextDouble() < largeStep_;
             StrategyCounters& k = stats_[large ? LargeStep : SmallStep];
-            const auto t0 = std::chrono::steady_clock::now();
             const int edges = large && lengths_ ? int(lengths_->sample(rng.nextDouble())) + 1 : edges_;
             u_.startIteration(large);
             const uint64_t bad = health_.nonFinite;
@@ -79,7 +81,9 @@ public:
                 u_.reject();
             }
             if (lengths_) ++mutationsPerLength_[size_t(edges_)];
-            k.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+            const auto t1 = std::chrono::steady_clock::now();
+            k.seconds += std::chrono::duration<double>(t1 - t0).count();
+            t0 = t1;
         }
         position_.flush(image);
         return i;
@@ -129,45 +133,89 @@ ChainRunStats runPrimarySpaceChains(const Scene& scene, const PrimarySpaceSettin
     const int threads = run.threads > 0 ? run.threads : tbb::this_task_arena::max_concurrency();
     tbb::task_arena arena(threads);
 
-    // 1. Start-up: independent primary samples. Multiplexed MLT gives each path length k its own,
-    //    n_k = startupSamples x (mean length) / k: on average `startupSamples` per length, and the same work
-    //    (k + 1 rays each) for every length, so the cheap short lengths, which often carry the largest and
-    //    noisiest share of b (an emitter seen directly), get the most samples.
+    // 1. Start-up: independent primary samples, in rounds (file comment of primary_space_chains.h). The
+    //    budget: `startupSamples` per path length on average, n_k = startupSamples x (mean length) / k for
+    //    length k, the same work (about k + 1 rays a sample) for every length. A pilot spends 1/8 of it so;
+    //    each later round doubles the work done, spread by Neyman allocation from the deviations seen so far,
+    //    until b's relative standard error is at most `startupError` or the budget is spent.
     const int lengths = multiplexed ? target.maxEdges() : 1;
-    std::vector<uint64_t> first(size_t(lengths) + 2, 0); // samples of length k: [first[k], first[k + 1])
+    const auto cost = [&](int k) { return multiplexed ? double(k + 1) : 1.0; };
+    std::vector<double> budgetCount(size_t(lengths) + 1, 0.0);
+    double budget = 0;
     for (int k = 1; k <= lengths; ++k) {
-        const double share = multiplexed ? 0.5 * (lengths + 1) / k : 1.0;
-        first[size_t(k) + 1] = first[size_t(k)] + std::max<uint64_t>(1, uint64_t(double(space.startupSamples) * share));
+        budgetCount[size_t(k)] = double(space.startupSamples) * (multiplexed ? 0.5 * (lengths + 1) / k : 1.0);
+        budget += budgetCount[size_t(k)] * cost(k);
     }
-    std::vector<double> weights(first[size_t(lengths) + 1], 0.0);
+    const size_t strata = multiplexed ? size_t(lengths) + 1 : 1;
+    const auto stratum = [&](int k) { return multiplexed ? size_t(k) : 0; };
+    std::vector<std::vector<double>> values(size_t(lengths) + 1); // f* of the start-up samples of each length
+    stats.normalization = NormalizationEstimate(strata);
     std::atomic<uint64_t> startupNonFinite{0};
-    for (int k = 1; k <= lengths && !runner.stopped(); ++k) {
-        double* w = weights.data() + first[size_t(k)];
-        arena.execute([&] {
-            tbb::parallel_for(tbb::blocked_range<uint64_t>(0, first[size_t(k) + 1] - first[size_t(k)], 256),
-                              [&](const tbb::blocked_range<uint64_t>& r) {
-                                  std::vector<ImageContribution> c;
-                                  SampleHealth health;
-                                  for (uint64_t i = r.begin(); i != r.end(); ++i) {
-                                      PrimarySampleVector u(Pcg32(), startupStream(run.seed, multiplexed ? k : 0, i),
-                                                            space.smallStep);
-                                      w[i] = multiplexed ? target.evaluateMultiplexed(k, u, c, health)
-                                                         : target.evaluateAll(u, c, health);
-                                  }
-                                  EmbreeAccel::flushRayCount();
-                                  startupNonFinite += health.nonFinite;
-                              });
-        });
-        runner.report("start-up", double(k) / lengths, 0);
-    }
-    stats.startupSamples = weights.size();
-    stats.health.nonFinite = startupNonFinite.load();
-    // In index order: the same b for any thread count. Stratum = path length (multiplexed) or 0.
-    stats.normalization = NormalizationEstimate(multiplexed ? size_t(lengths) + 1 : 1);
+    double spent = 0;
+    // `add[k]` more samples of each length k, keyed by their index within the length; their values join b
+    // in index order, so b is the same for any thread count.
+    const auto draw = [&](const std::vector<uint64_t>& add) {
+        for (int k = 1; k <= lengths && !runner.stopped(); ++k) {
+            std::vector<double>& v = values[size_t(k)];
+            const size_t begin = v.size();
+            v.resize(begin + add[size_t(k)]);
+            arena.execute([&] {
+                tbb::parallel_for(
+                    tbb::blocked_range<uint64_t>(0, add[size_t(k)], 256), [&](const tbb::blocked_range<uint64_t>& r) {
+                        std::vector<ImageContribution> c;
+                        SampleHealth health;
+                        for (uint64_t i = r.begin(); i != r.end(); ++i) {
+                            PrimarySampleVector u(Pcg32(), startupStream(run.seed, multiplexed ? k : 0, begin + i),
+                                                  space.smallStep);
+                            v[begin + i] = multiplexed ? target.evaluateMultiplexed(k, u, c, health)
+                                                       : target.evaluateAll(u, c, health);
+                        }
+                        EmbreeAccel::flushRayCount();
+                        startupNonFinite += health.nonFinite;
+                    });
+            });
+            for (size_t i = begin; i < v.size(); ++i)
+                stats.normalization.add(stratum(k), v[i]);
+            spent += double(add[size_t(k)]) * cost(k);
+            runner.report("start-up", std::min(1.0, spent / budget), 0);
+        }
+    };
+    // The pilot: at least two samples a length, for a deviation.
+    std::vector<uint64_t> add(size_t(lengths) + 1, 0);
     for (int k = 1; k <= lengths; ++k)
-        for (uint64_t i = first[size_t(k)]; i < first[size_t(k) + 1]; ++i)
-            stats.normalization.add(multiplexed ? size_t(k) : 0, weights[i]);
+        add[size_t(k)] = std::max<uint64_t>(2, uint64_t(budgetCount[size_t(k)] / 8));
+    draw(add);
+    while (!runner.stopped() && spent < budget) {
+        const double b = stats.normalization.b();
+        if (b > 0 && stats.normalization.relativeStandardError() <= space.startupError) break;
+        const double work = std::min(spent, budget - spent);
+        std::vector<double> deviation(size_t(lengths) + 1, 0.0), costs(deviation.size(), 1.0);
+        std::vector<uint64_t> have(deviation.size(), 0);
+        for (int k = 1; k <= lengths; ++k) {
+            deviation[size_t(k)] = stats.normalization.stratumDeviation(stratum(k));
+            costs[size_t(k)] = cost(k);
+            have[size_t(k)] = values[size_t(k)].size();
+        }
+        add = neymanAllocation(deviation, costs, have, work);
+        uint64_t added = 0;
+        for (const uint64_t n : add)
+            added += n;
+        if (added == 0) {
+            // No light seen yet (every deviation zero): the next share of the budget, spread as the budget.
+            for (int k = 1; k <= lengths; ++k)
+                added += add[size_t(k)] = uint64_t(budgetCount[size_t(k)] * work / budget);
+            if (added == 0) break;
+        }
+        draw(add);
+    }
+    std::vector<uint64_t> first(size_t(lengths) + 2, 0); // samples of length k: [first[k], first[k + 1])
+    for (int k = 1; k <= lengths; ++k)
+        first[size_t(k) + 1] = first[size_t(k)] + values[size_t(k)].size();
+    stats.startupSamples = first[size_t(lengths) + 1];
+    stats.health.nonFinite = startupNonFinite.load();
     stats.startupSeconds = runner.elapsed();
+    stats.startupWork = spent / budget;
+    stats.startupError = stats.normalization.relativeStandardError();
     if (runner.stopped()) {
         stats.interrupted = true;
         runner.finish(stats);
@@ -193,9 +241,13 @@ ChainRunStats runPrimarySpaceChains(const Scene& scene, const PrimarySpaceSettin
                 (1 - LengthFloor) * stats.normalization.stratumB(size_t(k)) / b + LengthFloor / (k * harmonic);
         lengthProposal.emplace(q);
     }
-    for (int k = 1; k <= lengths; ++k)
-        for (uint64_t i = first[size_t(k)]; i < first[size_t(k) + 1]; ++i)
-            weights[i] /= double(first[size_t(k) + 1] - first[size_t(k)]);
+    std::vector<double> weights;
+    weights.reserve(stats.startupSamples);
+    for (int k = 1; k <= lengths; ++k) {
+        for (const double f : values[size_t(k)])
+            weights.push_back(f / double(values[size_t(k)].size()));
+        values[size_t(k)] = std::vector<double>();
+    }
     Pcg32 allocation = chainStream(run.seed, ~uint64_t(0));
     const std::vector<size_t> starts = systematicResample(weights, size_t(run.chains), allocation.nextDouble());
     weights = std::vector<double>(); // millions of samples with long paths (multiplexed): freed for the run

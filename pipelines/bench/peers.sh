@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # lt side by side with a peer renderer (report the numbers in the issue note; nothing here is asserted).
-#   [RUNS=3] [SIZE=1024] pipelines/bench/peers.sh [TUNGSTEN]
+#   [RUNS=3] [SIZE=1024] [METHODS="pt bdpt multiplexed primary"] [SCENES="cornell-box veach-bidir"]
+#   pipelines/bench/peers.sh [TUNGSTEN]
 # The work: path tracing 16 spp, BDPT 4 spp, multiplexed MLT and primary-sample-space MLT 8 mutations per
 # pixel, on scenes/cornell-box at SIZE^2, 1 and 2 threads; and a 16x16, 1-spp render (start-up). For each:
 # CPU seconds (user + system, median of RUNS), peak resident memory, and lt's own rates (samples/s,
@@ -16,6 +17,7 @@
 # Debian's OpenEXR 3 writes its HDR image only as PFM (its CMake looks for OpenEXR 2's IlmImf): oiiotool
 # (Debian's openimageio-tools) converts it to EXR for lt-error.
 # Without TUNGSTEN only lt's figures are printed: run it before and after a change, on an idle machine.
+# METHODS and SCENES choose rows (a change to one method need not wait for the others' runs).
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/../lib/bench.bash" lt-seed
 [ -x "$bin/lt-mutate" ] || { echo "peers.sh: $bin/lt-mutate is not built" >&2; exit 1; }
@@ -23,6 +25,14 @@ source "$(dirname "${BASH_SOURCE[0]}")/../lib/bench.bash" lt-seed
 runs="${RUNS:-3}"
 size="${SIZE:-1024}"
 equal_time="${EQUAL_TIME:-60}"
+methods="${METHODS:-pt bdpt multiplexed primary}"
+scenes="${SCENES:-cornell-box veach-bidir}"
+for m in $methods; do
+  case "$m" in pt | bdpt | multiplexed | primary) ;; *) echo "peers.sh: unknown method '$m' in METHODS (pt bdpt multiplexed primary)" >&2; exit 2 ;; esac
+done
+for s in $scenes; do
+  [ -f "$root/scenes/$s/scene.xml" ] || { echo "peers.sh: no scene '$s' (SCENES: directories of scenes/)" >&2; exit 2; }
+done
 tungsten="${1:-}"
 out="$(mktemp -d)"
 trap 'rm -rf "$out"' EXIT
@@ -107,7 +117,7 @@ tungsten_command() { # METHOD THREADS
 }
 
 echo "$runs runs each, ${size}x$size, $(nproc) cores, $(date -u +%FT%TZ), lt $(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo '?')"
-for scene in cornell-box veach-bidir; do
+for scene in $scenes; do
   xml="$root/scenes/$scene/scene.xml"
   echo
   echo "== $scene"
@@ -117,7 +127,7 @@ for scene in cornell-box veach-bidir; do
   else
     printf '%-12s %3s %9s %8s %-30s\n' work thr "lt CPU s" "lt MB" "lt rate"
   fi
-  for method in pt bdpt multiplexed primary; do
+  for method in $methods; do
     for threads in 1 2; do
       : > "$out/lt.cpu"; : > "$out/tu.cpu"; ltmb=0; tumb=0; rate=""
       for ((r = 0; r < runs; ++r)); do

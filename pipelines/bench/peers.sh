@@ -11,8 +11,9 @@
 # data/example-scenes/cornell-box/scene.json, found beside the build (or given as TUNGSTEN_SCENE), renders
 # the same image with fov 19.5 and a square film; max_bounces 65 is lt's maxDepth 65. Runs alternate, lt
 # then Tungsten, so that a drift of the machine's speed reaches both; the last column is lt / Tungsten.
-# With TUNGSTEN, path tracing at equal time as well: EQUAL_TIME seconds (default 60; 0 skips it) on 2 threads
-# each, relMSE of both images against scenes/cornell-box/reference.exr (lt-error), and each renderer's wall
+# With TUNGSTEN, path tracing and multiplexed MLT (those of METHODS) at equal time as well: EQUAL_TIME seconds
+# (default 60; 0 skips it) on 2 threads each, relMSE of both images against scenes/cornell-box/reference.exr
+# (lt-error), and each renderer's wall
 # time (Tungsten finishes the step of samples it is in when its timeout comes). Tungsten built against
 # Debian's OpenEXR 3 writes its HDR image only as PFM (its CMake looks for OpenEXR 2's IlmImf): oiiotool
 # (Debian's openimageio-tools) converts it to EXR for lt-error.
@@ -180,24 +181,35 @@ PY
   printf '%-10s %8s ms %6s MB\n' Tungsten "$(startup "${tu_small[@]}")" "$(measure_tungsten "${tu_small[@]}" | cut -d' ' -f2)"
 fi
 
-# Path tracing at equal time: relMSE against the reference (Tungsten's bare "timeout" number means minutes).
+# Path tracing and multiplexed MLT at equal time: relMSE against the reference (Tungsten's bare "timeout"
+# number means minutes).
 if [ -n "$tungsten" ] && ((equal_time > 0)); then
   reference="$root/scenes/cornell-box/reference.exr"
-  echo
-  echo "== path tracing for ${equal_time} s on 2 threads, cornell-box ${size}x$size: relMSE against $reference"
-  python3 - "$out/tungsten-pt.json" "$out/tungsten-timed.json" "$equal_time" <<'PY'
+  for method in pt multiplexed; do
+    [[ " $methods " == *" $method "* ]] || continue
+    echo
+    echo "== $method for ${equal_time} s on 2 threads, cornell-box ${size}x$size: relMSE against $reference"
+    python3 - "$out/tungsten-$method.json" "$out/tungsten-timed.json" "$equal_time" <<'PY'
 import json, sys
 scene = json.load(open(sys.argv[1]))
 # Tungsten checks its timeout between steps of spp_step samples per pixel (16 in the example scene, which
-# overran a 3 s timeout to 16 s at 1024^2): one spp per step keeps its time close to lt's.
+# overran a 3 s timeout to 16 s at 1024^2): one spp (MLT: one mutation per pixel) per step keeps its time
+# close to lt's.
 scene["renderer"].update({"timeout": f"{sys.argv[3]}s", "spp": 1 << 20, "spp_step": 1})
 json.dump(scene, open(sys.argv[2], "w"))
 PY
-  measure "$bin/lt-seed" "$box" --method pt --time "$equal_time" --resolution "${size}x$size" --threads 2 -o "$out/timed.lts" > /dev/null
-  echo "lt: $(tail -1 "$out/log")"
-  measure_tungsten "$tungsten" -t 2 -s 1 -d "$out/tungsten" "$out/tungsten-timed.json" > /dev/null
-  echo "Tungsten: $(grep -o 'Render time.*' "$out/log" | tail -1)"
-  [ -f "$out/tungsten/render.pfm" ] || { echo "peers.sh: Tungsten wrote no render.pfm" >&2; exit 1; }
-  oiiotool "$out/tungsten/render.pfm" -o "$out/tungsten.exr"
-  "$bin/lt-error" --ref "$reference" "$out/timed.lts" "$out/tungsten.exr"
+    if [ "$method" = pt ]; then
+      measure "$bin/lt-seed" "$box" --method pt --time "$equal_time" --resolution "${size}x$size" --threads 2 \
+        -o "$out/timed.lts" > /dev/null
+    else
+      measure "$bin/lt-mutate" "$box" --space "$method" --time "$equal_time" --resolution "${size}x$size" --threads 2 \
+        -o "$out/timed.lts" > /dev/null
+    fi
+    echo "lt: $(tail -1 "$out/log")"
+    measure_tungsten "$tungsten" -t 2 -s 1 -d "$out/tungsten" "$out/tungsten-timed.json" > /dev/null
+    echo "Tungsten: $(grep -o 'Render time.*' "$out/log" | tail -1)"
+    [ -f "$out/tungsten/render.pfm" ] || { echo "peers.sh: Tungsten wrote no render.pfm" >&2; exit 1; }
+    oiiotool "$out/tungsten/render.pfm" -o "$out/tungsten.exr"
+    "$bin/lt-error" --ref "$reference" "$out/timed.lts" "$out/tungsten.exr"
+  done
 fi

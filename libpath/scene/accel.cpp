@@ -129,7 +129,7 @@ EmbreeAccel::~EmbreeAccel() = default;
 EmbreeAccel::EmbreeAccel(EmbreeAccel&&) noexcept = default;
 EmbreeAccel& EmbreeAccel::operator=(EmbreeAccel&&) noexcept = default;
 
-void EmbreeAccel::build(const std::vector<Shape>& shapes, const std::vector<bool>& include) {
+void EmbreeAccel::build(const std::vector<Shape>& shapes, const std::vector<bool>& include, bool robust) {
     impl_ = std::make_unique<Impl>();
     Impl& im = *impl_;
     im.shapes = &shapes;
@@ -139,7 +139,7 @@ void EmbreeAccel::build(const std::vector<Shape>& shapes, const std::vector<bool
     im.scene = rtcNewScene(im.device);
     // Robust mode: watertight-ish traversal at a small speed cost; rays grazing shared edges of the
     // cornell box must not leak.
-    rtcSetSceneFlags(im.scene, RTC_SCENE_FLAG_ROBUST);
+    rtcSetSceneFlags(im.scene, robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE);
     rtcSetSceneBuildQuality(im.scene, RTC_BUILD_QUALITY_HIGH);
     for (size_t i = 0; i < shapes.size(); ++i) {
         if (!include[i]) continue;

@@ -29,8 +29,9 @@ public:
     EmbreeAccel& operator=(const EmbreeAccel&) = delete;
 
     // Build over shapes[i] for every i with include[i]; shape indices in hits refer to `shapes`.
-    // The shapes must outlive the accelerator (user geometry keeps pointers to them).
-    void build(const std::vector<Shape>& shapes, const std::vector<bool>& include);
+    // The shapes must outlive the accelerator (user geometry keeps pointers to them). `robust`: Embree's
+    // robust traversal, as every scene is built; false only for lt-bench-rays to measure what it costs.
+    void build(const std::vector<Shape>& shapes, const std::vector<bool>& include, bool robust = true);
 
     [[nodiscard]] std::optional<RayHit> intersect(const Ray& ray) const;
     [[nodiscard]] bool occluded(const Ray& ray) const;

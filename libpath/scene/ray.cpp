@@ -23,12 +23,15 @@ float nextFloat(float x, bool up) {
 }
 
 float offsetComponent(double p, double n, double magnitude) {
+    // A zero component of the normal (every component but one on axis-aligned walls) offsets by nothing:
+    // both candidates below are then float(p + n x ...), the one returned (for non-finite inputs too).
+    if (n == 0) return float(p + n * MagnitudeScale * magnitude);
     const float pf = float(p);
     const int32_t ofi = int32_t(IntScale * float(n));
     const float byUlps = std::bit_cast<float>(std::bit_cast<int32_t>(pf) + ((pf < 0) ? -ofi : ofi));
     float byMagnitude = float(p + n * MagnitudeScale * magnitude);
     // Round away from the surface so the float position keeps the full offset.
-    if (n != 0) byMagnitude = nextFloat(byMagnitude, n > 0);
+    byMagnitude = nextFloat(byMagnitude, n > 0);
     // Whichever goes farther along n (both move in the direction of n).
     return std::abs(double(byUlps) - p) > std::abs(double(byMagnitude) - p) ? byUlps : byMagnitude;
 }

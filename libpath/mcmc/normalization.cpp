@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "math/error.h"
+
 namespace lt {
 
 void NormalizationEstimate::take(NormalizationEstimate& other) {
@@ -64,10 +66,13 @@ std::vector<uint64_t> neymanAllocation(const std::vector<double>& deviation, con
                                        const std::vector<uint64_t>& have, double work) {
     const size_t n = deviation.size();
     std::vector<uint64_t> add(n, 0);
+    std::vector<double> sigma(n, 0.0);
     double total = work, norm = 0;
     for (size_t k = 0; k < n; ++k) {
+        if (!(cost[k] > 0)) throw Error("Neyman allocation: the cost of a sample must be positive");
+        sigma[k] = std::isfinite(deviation[k]) ? deviation[k] : 0.0;
         total += double(have[k]) * cost[k];
-        norm += deviation[k] * std::sqrt(cost[k]);
+        norm += sigma[k] * std::sqrt(cost[k]);
     }
     if (!(norm > 0) || !(work > 0)) return add;
     // The allocation for the total work: n_k = total (sigma_k / sqrt(c_k)) / sum_j sigma_j sqrt(c_j), so that
@@ -76,7 +81,7 @@ std::vector<uint64_t> neymanAllocation(const std::vector<double>& deviation, con
     std::vector<double> want(n, 0.0);
     double wantWork = 0;
     for (size_t k = 0; k < n; ++k) {
-        want[k] = std::max(0.0, total * deviation[k] / std::sqrt(cost[k]) / norm - double(have[k]));
+        want[k] = std::max(0.0, total * sigma[k] / std::sqrt(cost[k]) / norm - double(have[k]));
         wantWork += want[k] * cost[k];
     }
     const double scale = wantWork > work ? work / wantWork : 1.0;

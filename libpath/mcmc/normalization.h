@@ -10,8 +10,9 @@
 // the end.
 //
 // Strata: b = sum_k b_k over strata k (multiplexed MLT: path lengths), each b_k the mean of its own
-// independent samples X_k,i, unbiased given the number of samples (the number depends on the run's
-// length and random choices, never on the values drawn). Var(b) = sum_k Var(X_k) / n_k, with Var(X_k)
+// independent samples X_k,i. Where the number of samples depends on values drawn before (the start-up's
+// Neyman allocation, the large steps' length proposal), the mean is a ratio estimator, consistent with a
+// bias of order 1 / n, far under its standard error. Var(b) = sum_k Var(X_k) / n_k, with Var(X_k)
 // the samples' own spread; for a stratum that also holds a previous run's mean without its spread (a
 // seed file's b), that mean counts as its samples and Var(X_k) comes from the samples whose values are
 // known.
@@ -74,8 +75,8 @@ private:
 // sum_k n_k c_k, Var(b) = sum_k sigma_k^2 / n_k is least with n_k proportional to sigma_k / sqrt(c_k).
 // Given the samples each stratum has (`have`), their deviations and costs per sample, returns the samples
 // to add to each, at most `work` in all, that bring the counts toward that allocation for the total work
-// (what `have` cost plus `work`): a stratum the allocation gives fewer than it has gets none. All zero when
-// every deviation is zero.
+// (what `have` cost plus `work`): a stratum the allocation gives fewer than it has gets none. A deviation
+// that is not finite counts as zero; all zero when every deviation is zero. Costs must be positive.
 std::vector<uint64_t> neymanAllocation(const std::vector<double>& deviation, const std::vector<double>& cost,
                                        const std::vector<uint64_t>& have, double work);
 

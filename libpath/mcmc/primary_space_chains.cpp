@@ -20,6 +20,10 @@ namespace {
 
 enum Row : size_t { LargeStep = 0, SmallStep = 1 };
 
+// The share of each start-up round after the pilot that is spread evenly over the path lengths (the rest
+// follows Neyman allocation; file comment of primary_space_chains.h).
+constexpr double EvenShare = 0.25;
+
 // The numbers of start-up sample `index` of path length `edges` (0 for Kelemen), and of chain `chain`:
 // separate keyed streams, so nothing depends on the order in which threads run them.
 Pcg32 startupStream(uint64_t seed, int edges, uint64_t index) {
@@ -122,6 +126,7 @@ ChainRunStats runPrimarySpaceChains(const Scene& scene, const PrimarySpaceSettin
                                     SampleFilm& film, const RunProgressCallback& progress,
                                     const std::atomic<bool>* stop, const RunSnapshotCallback& snapshot) {
     if (run.chains < 1) throw Error("the number of chains must be at least 1");
+    if (space.startupSamples == 0) throw Error("the start-up needs a budget of at least one sample");
     if (run.mutations == 0 && !(run.timeLimit > 0)) throw Error("give a number of mutations or a time limit");
     if (!(space.largeStepProbability >= 0 && space.largeStepProbability <= 1))
         throw Error("the large-step probability must be in [0, 1]");
@@ -136,8 +141,9 @@ ChainRunStats runPrimarySpaceChains(const Scene& scene, const PrimarySpaceSettin
     // 1. Start-up: independent primary samples, in rounds (file comment of primary_space_chains.h). The
     //    budget: `startupSamples` per path length on average, n_k = startupSamples x (mean length) / k for
     //    length k, the same work (about k + 1 rays a sample) for every length. A pilot spends 1/8 of it so;
-    //    each later round doubles the work done, spread by Neyman allocation from the deviations seen so far,
-    //    until b's relative standard error is at most `startupError` or the budget is spent.
+    //    each later round adds half the work done, a quarter spread so and the rest by Neyman allocation from
+    //    the deviations seen so far, until b's relative standard error is at most `startupError` or the
+    //    budget is spent.
     const int lengths = multiplexed ? target.maxEdges() : 1;
     const auto cost = [&](int k) { return multiplexed ? double(k + 1) : 1.0; };
     std::vector<double> budgetCount(size_t(lengths) + 1, 0.0);
@@ -153,31 +159,37 @@ ChainRunStats runPrimarySpaceChains(const Scene& scene, const PrimarySpaceSettin
     std::atomic<uint64_t> startupNonFinite{0};
     double spent = 0;
     // `add[k]` more samples of each length k, keyed by their index within the length; their values join b
-    // in index order, so b is the same for any thread count.
+    // in index order, so b is the same for any thread count. In chunks of an eighth of the length's share of
+    // the budget (at least 4096), so that Ctrl-C ends even a round that gives one length half the budget soon.
     const auto draw = [&](const std::vector<uint64_t>& add) {
-        for (int k = 1; k <= lengths && !runner.stopped(); ++k) {
+        for (int k = 1; k <= lengths; ++k) {
             std::vector<double>& v = values[size_t(k)];
-            const size_t begin = v.size();
-            v.resize(begin + add[size_t(k)]);
-            arena.execute([&] {
-                tbb::parallel_for(
-                    tbb::blocked_range<uint64_t>(0, add[size_t(k)], 256), [&](const tbb::blocked_range<uint64_t>& r) {
-                        std::vector<ImageContribution> c;
-                        SampleHealth health;
-                        for (uint64_t i = r.begin(); i != r.end(); ++i) {
-                            PrimarySampleVector u(Pcg32(), startupStream(run.seed, multiplexed ? k : 0, begin + i),
-                                                  space.smallStep);
-                            v[begin + i] = multiplexed ? target.evaluateMultiplexed(k, u, c, health)
-                                                       : target.evaluateAll(u, c, health);
-                        }
-                        EmbreeAccel::flushRayCount();
-                        startupNonFinite += health.nonFinite;
-                    });
-            });
-            for (size_t i = begin; i < v.size(); ++i)
-                stats.normalization.add(stratum(k), v[i]);
-            spent += double(add[size_t(k)]) * cost(k);
-            runner.report("start-up", std::min(1.0, spent / budget), 0);
+            const uint64_t chunk = std::max<uint64_t>(4096, uint64_t(budgetCount[size_t(k)] / 8));
+            for (uint64_t done = 0; done < add[size_t(k)] && !runner.stopped();) {
+                const uint64_t count = std::min(chunk, add[size_t(k)] - done);
+                const size_t begin = v.size();
+                v.resize(begin + count);
+                arena.execute([&] {
+                    tbb::parallel_for(
+                        tbb::blocked_range<uint64_t>(0, count, 256), [&](const tbb::blocked_range<uint64_t>& r) {
+                            std::vector<ImageContribution> c;
+                            SampleHealth health;
+                            for (uint64_t i = r.begin(); i != r.end(); ++i) {
+                                PrimarySampleVector u(Pcg32(), startupStream(run.seed, multiplexed ? k : 0, begin + i),
+                                                      space.smallStep);
+                                v[begin + i] = multiplexed ? target.evaluateMultiplexed(k, u, c, health)
+                                                           : target.evaluateAll(u, c, health);
+                            }
+                            EmbreeAccel::flushRayCount();
+                            startupNonFinite += health.nonFinite;
+                        });
+                });
+                for (size_t i = begin; i < v.size(); ++i)
+                    stats.normalization.add(stratum(k), v[i]);
+                spent += double(count) * cost(k);
+                done += count;
+                runner.report("start-up", std::min(1.0, spent / budget), 0);
+            }
         }
     };
     // The pilot: at least two samples a length, for a deviation.
@@ -187,25 +199,30 @@ ChainRunStats runPrimarySpaceChains(const Scene& scene, const PrimarySpaceSettin
     draw(add);
     while (!runner.stopped() && spent < budget) {
         const double b = stats.normalization.b();
-        if (b > 0 && stats.normalization.relativeStandardError() <= space.startupError) break;
-        const double work = std::min(spent, budget - spent);
+        if (space.startupError > 0 && b > 0 && stats.normalization.relativeStandardError() <= space.startupError) break;
+        // Rounds of half the work so far: the start-up ends within 1.5 times the work its error needs.
+        const double work = std::min(spent / 2, budget - spent);
+        // A quarter of the round spread as the budget, the rest by Neyman allocation: a length whose samples
+        // so far show no spread (a rare light the pilot missed) still gets its even share, so no length's
+        // count rests on the values drawn alone. All of it spread so while no light is seen at all.
         std::vector<double> deviation(size_t(lengths) + 1, 0.0), costs(deviation.size(), 1.0);
-        std::vector<uint64_t> have(deviation.size(), 0);
+        std::vector<uint64_t> have(deviation.size(), 0), even(deviation.size(), 0);
         for (int k = 1; k <= lengths; ++k) {
             deviation[size_t(k)] = stats.normalization.stratumDeviation(stratum(k));
             costs[size_t(k)] = cost(k);
-            have[size_t(k)] = values[size_t(k)].size();
+            even[size_t(k)] = uint64_t(budgetCount[size_t(k)] * EvenShare * work / budget);
+            have[size_t(k)] = values[size_t(k)].size() + even[size_t(k)];
         }
-        add = neymanAllocation(deviation, costs, have, work);
+        add = neymanAllocation(deviation, costs, have, (1 - EvenShare) * work);
         uint64_t added = 0;
+        for (size_t k = 0; k < add.size(); ++k)
+            added += add[k];
+        for (int k = 1; k <= lengths; ++k)
+            add[size_t(k)] += added > 0 ? even[size_t(k)] : uint64_t(budgetCount[size_t(k)] * work / budget);
+        added = 0;
         for (const uint64_t n : add)
             added += n;
-        if (added == 0) {
-            // No light seen yet (every deviation zero): the next share of the budget, spread as the budget.
-            for (int k = 1; k <= lengths; ++k)
-                added += add[size_t(k)] = uint64_t(budgetCount[size_t(k)] * work / budget);
-            if (added == 0) break;
-        }
+        if (added == 0) break;
         draw(add);
     }
     std::vector<uint64_t> first(size_t(lengths) + 2, 0); // samples of length k: [first[k], first[k + 1])

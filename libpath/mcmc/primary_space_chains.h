@@ -4,13 +4,15 @@
 // independent primary samples give the first estimate of b = integral of f*, and every chain starts from one
 // of them drawn in proportion to f* (systematic over the chain index). Their budget is `startupSamples`
 // (multiplexed MLT: that many per path length on average, spread in inverse proportion to the length, the
-// same work for each, so that each length's b_k is estimated however small its share). A pilot spends 1/8
-// of it so; then rounds, each doubling the work done, spread over the lengths by Neyman allocation
-// (n_k proportional to sigma_k / sqrt(cost_k), mcmc/normalization.h) until b's relative standard error is at
-// most `startupError`. Spread evenly, most of the work went to long paths that hold almost nothing: on
-// cornell-box (65 lengths) Neyman allocation reaches the even spread's precision with 1/20 of the work.
-// The counts of the later rounds depend on the values drawn before (so does the run's use of q below):
-// the mean over all samples is consistent, its bias of order 1 / n far under its standard error.
+// same work for each). A pilot spends 1/8 of it so; then rounds, each adding half the work done, a quarter of
+// it spread so and the rest over the lengths by Neyman allocation (n_k proportional to sigma_k / sqrt(cost_k),
+// mcmc/normalization.h), until b's relative standard error is at most `startupError`. Spread evenly, most of
+// the work went to long paths that hold almost nothing: on cornell-box (65 lengths) Neyman allocation reaches
+// the even spread's precision with 1/20 of the work. The even quarter keeps every length sampled, a rare
+// light the pilot missed included (its samples show no spread, so Neyman allocation alone would give it
+// nothing more, and b's standard error would not show what it misses). The counts of the later rounds depend
+// on the values drawn before (so does the run's use of q below): the mean over all samples is consistent,
+// its bias of order 1 / n, far under its standard error.
 // b is then refined during the run: every large step is an independent uniform sample of f*, so its value joins the
 // estimate whether it is accepted or not (mcmc/normalization.h), and the film is read with b as it then stands.
 //

@@ -24,7 +24,8 @@ float nextFloat(float x, bool up) {
 
 float offsetComponent(double p, double n, double magnitude) {
     // A zero component of the normal (every component but one on axis-aligned walls) offsets by nothing:
-    // both candidates below are then float(p + n x ...), the one returned (for non-finite inputs too).
+    // below, byUlps is then float(p) and byMagnitude float(p + n x ...), no farther from p, so the latter
+    // is returned (for signed zeros and non-finite inputs too).
     if (n == 0) return float(p + n * MagnitudeScale * magnitude);
     const float pf = float(p);
     const int32_t ofi = int32_t(IntScale * float(n));

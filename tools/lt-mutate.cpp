@@ -104,8 +104,8 @@ int main(int argc, char** argv) {
                    "independent samples that first estimate b and seed the chains, at most (default 100000; "
                    "multiplexed: per path length on average, default 20000, the same work for each length; path "
                    "space without a seed file: BDPT samples, all of them). The primary spaces spend 1/8 of it "
-                   "evenly, then more where b's spread is (Neyman allocation over the lengths), and stop once b is "
-                   "known to --startup-error")
+                   "evenly, then rounds with a quarter evenly and the rest where b's spread is (Neyman allocation "
+                   "over the lengths), and stop once b is known to --startup-error")
         ->check(lt::tool::PositiveNumber);
     app.add_option("--startup-error", startupError,
                    "primary spaces: the start-up stops once b's relative standard error is at most this (default "

@@ -43,8 +43,9 @@ int main(int argc, char** argv) {
     std::string scenePath, seedsPath, out, space = "path", resolution, snapshotTimes, snapshotMutations,
                                            strategies = "auto", dumpPaths, streamPath;
     uint64_t mutations = 0, seed = 0, startupSamples = 0;
-    double timeLimit = 0, mutationsPerPixel = 0, largeStep = 0.3, startupError = 0.005, refineB = 1.0 / 16, lambda = 50,
-           hsltGamma = 0.1, hsltStratify = 0.02;
+    double timeLimit = 0, mutationsPerPixel = 0, largeStep = 0.3,
+           startupError = lt::PrimarySpaceSettings().startupError, refineB = 1.0 / 16, lambda = 50, hsltGamma = 0.1,
+           hsltStratify = 0.02;
     int chains = 256, threads = 0, maxDepth = -2, unbounded = 12, round = 64;
     size_t dumpEvery = 0;
     bool quiet = false;

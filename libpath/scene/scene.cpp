@@ -29,13 +29,18 @@ const Bsdf* Scene::bsdfOf(const SurfaceInteraction& si) const {
     return b >= 0 ? bsdfs[size_t(b)].bsdf.get() : nullptr;
 }
 
+std::vector<bool> Scene::geometryShapes() const {
+    std::vector<bool> geometry(shapes.size());
+    for (size_t i = 0; i < shapes.size(); ++i)
+        geometry[i] = !shapes[i].portal;
+    return geometry;
+}
+
 void Scene::finalize() {
-    std::vector<bool> include(shapes.size());
+    std::vector<bool> include = geometryShapes();
     bounds = {};
-    for (size_t i = 0; i < shapes.size(); ++i) {
-        include[i] = !shapes[i].portal;
+    for (size_t i = 0; i < shapes.size(); ++i)
         if (include[i]) bounds.expand(shapes[i].bounds());
-    }
     if (!bounds.valid()) bounds.expand(Vec3(0, 0, 0));
     accel_.build(shapes, include);
     include.flip(); // now the portals

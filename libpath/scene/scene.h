@@ -77,6 +77,8 @@ public:
 
     // Called by the loader once everything is in place.
     void finalize();
+    // The shapes the geometry's accelerator holds: all but the portals (true where shapes[i] is geometry).
+    [[nodiscard]] std::vector<bool> geometryShapes() const;
 
 private:
     EmbreeAccel accel_;

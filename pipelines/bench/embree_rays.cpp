@@ -44,9 +44,7 @@ int main(int argc, char** argv) {
             r.d = lt::warp::squareToUniformSphere({rng.nextDouble(), rng.nextDouble()});
         }
         const uint64_t blocks = 1024, perBlock = rays / blocks;
-        std::vector<bool> include(scene->shapes.size());
-        for (size_t i = 0; i < include.size(); ++i)
-            include[i] = !scene->shapes[i].portal;
+        const std::vector<bool> include = scene->geometryShapes();
         for (const bool robust : {true, false}) {
             lt::EmbreeAccel accel;
             accel.build(scene->shapes, include, robust);

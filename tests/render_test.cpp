@@ -42,13 +42,14 @@ PixelStats stats(const std::vector<float>& img, int width, int x0, int y0, int x
 }
 
 std::vector<float> renderImage(const Scene& scene, PixelMethod method, int spp, PathSettings b, uint64_t seed = 1,
-                               int threads = 2) {
+                               int threads = 2, SamplerKind sampler = SamplerKind::Independent) {
     SampleFilm film(scene.camera);
     RenderSettings rs;
     rs.paths = b;
     rs.spp = spp;
     rs.seed = seed;
     rs.threads = threads;
+    rs.sampler = sampler;
     const RenderStats st = render(scene, *makePixelEstimator(method, scene, b), rs, film, {}, nullptr);
     REQUIRE(st.health.nonFinite == 0);
     return film.develop();
@@ -80,14 +81,17 @@ TEST_CASE("furnace box: every pixel is Le * sum of rho^k for k < maxDepth", "[re
         for (int k = 0; k < depth; ++k) expected += std::pow(rho, k);
         PathSettings b;
         b.maxDepth = depth;
-        for (PixelMethod m : {PixelMethod::Bdpt, PixelMethod::PathTracing}) {
-            CAPTURE(int(m));
-            const auto img = renderImage(*scene, m, 16, b);
-            const PixelStats s = stats(img, 24, 0, 0, 24, 24);
-            // 5 standard errors: a false failure has probability below 1e-6 per check.
-            // Plus the float32 rounding of the film's output (2^-24 relative, a few roundings).
-            CHECK(std::abs(s.mean - expected) < 5 * s.stderr_ + 1e-6 * expected);
-        }
+        for (PixelMethod m : {PixelMethod::Bdpt, PixelMethod::PathTracing})
+            for (SamplerKind sampler : {SamplerKind::Independent, SamplerKind::Sobol}) {
+                CAPTURE(int(m), int(sampler));
+                // Each pixel is an independent estimate under either sampler (the Sobol sampler's scrambles
+                // are seeded per pixel), so the pixels' spread gives the standard error.
+                const auto img = renderImage(*scene, m, 16, b, 1, 2, sampler);
+                const PixelStats s = stats(img, 24, 0, 0, 24, 24);
+                // 5 standard errors: a false failure has probability below 1e-6 per check.
+                // Plus the float32 rounding of the film's output (2^-24 relative, a few roundings).
+                CHECK(std::abs(s.mean - expected) < 5 * s.stderr_ + 1e-6 * expected);
+            }
     }
 }
 
@@ -177,9 +181,12 @@ TEST_CASE("rendering is bit-identical whatever the thread count", "[render]") {
     const auto scene = loadScene(test::furnaceBox(dir, 0.5, 4));
     PathSettings b;
     b.maxDepth = 4;
-    const auto one = renderImage(*scene, PixelMethod::Bdpt, 4, b, 7, 1);
-    const auto two = renderImage(*scene, PixelMethod::Bdpt, 4, b, 7, 2);
-    CHECK(one == two);
+    for (SamplerKind sampler : {SamplerKind::Independent, SamplerKind::Sobol}) {
+        CAPTURE(int(sampler));
+        const auto one = renderImage(*scene, PixelMethod::Bdpt, 4, b, 7, 1, sampler);
+        const auto two = renderImage(*scene, PixelMethod::Bdpt, 4, b, 7, 2, sampler);
+        CHECK(one == two);
+    }
 }
 
 TEST_CASE("a diffuse plane under a point light: L = rho/pi I cos / d^2", "[render]") {

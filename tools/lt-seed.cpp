@@ -24,7 +24,8 @@ int main(int argc, char** argv) {
                  "normalization b for lt-mutate. Same seed and sample count give a bit-identical file whatever the "
                  "thread count. Ctrl-C stops early and still writes a valid file.",
                  "lt-seed"};
-    std::string scenePath, out, pathsOut, method = "bdpt", mis = "power", resolution, snapshotTimes, snapshotSamples;
+    std::string scenePath, out, pathsOut, method = "bdpt", mis = "power", sampler = "independent", resolution,
+                                          snapshotTimes, snapshotSamples;
     int spp = 0, maxDepth = -2, rrDepth = 0, threads = 0, tile = 32;
     double timeLimit = 0;
     uint64_t seed = 0;
@@ -45,6 +46,11 @@ int main(int argc, char** argv) {
         ->check(lt::tool::PositiveNumber);
     app.add_option("--mis", mis, "MIS heuristic: power (default) or balance")
         ->check(CLI::IsMember({"power", "balance"}));
+    app.add_option("--sampler", sampler,
+                   "random numbers of a pixel's samples: independent (default; PCG32) or sobol (padded Owen-scrambled "
+                   "Sobol' points, Burley 2020: each 1D and 2D sample of a path is stratified over the pixel's "
+                   "samples, which lowers the noise of smooth regions, most at 2^k samples per pixel; unbiased)")
+        ->check(CLI::IsMember({"independent", "sobol"}));
     app.add_option("--threads", threads, "worker threads (default: all cores)")->check(lt::tool::ThreadCount);
     app.add_option("--seed", seed, "random seed (default 0)");
     app.add_option("--resolution", resolution, "film size WxH, overriding the scene's (keeps the horizontal fov)");
@@ -81,6 +87,7 @@ int main(int argc, char** argv) {
         rs.timeLimit = timeLimit;
         rs.threads = threads;
         rs.seed = seed;
+        rs.sampler = sampler == "sobol" ? lt::SamplerKind::Sobol : lt::SamplerKind::Independent;
         rs.tileSize = tile;
         if (!snapshotTimes.empty() && !snapshotSamples.empty())
             throw lt::Error("give --snapshots or --snapshot-samples, not both");
@@ -96,6 +103,7 @@ int main(int argc, char** argv) {
                                  {"rr_depth", rs.paths.rrDepth},
                                  {"mis", mis},
                                  {"seed", seed},
+                                 {"sampler", sampler},
                                  {"tile", tile},
                                  {"resolution", {scene->camera.film().width, scene->camera.film().height}},
                                  {"filter", scene->camera.film().filter.name()}};

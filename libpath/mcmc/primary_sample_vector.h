@@ -59,6 +59,10 @@ public:
 
     void startStream(Stream s) override;
     [[nodiscard]] double next1D() override;
+    [[nodiscard]] Vec2 next2D() override { // one virtual call for both numbers
+        const double a = next1D();
+        return {a, next1D()};
+    }
 
     [[nodiscard]] uint64_t iteration() const { return iteration_; }
     [[nodiscard]] bool largeStep() const { return largeStep_; }

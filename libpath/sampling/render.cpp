@@ -8,6 +8,7 @@
 #include "math/error.h"
 #include "path/path_record.h"
 #include "sampling/path_tracer.h"
+#include "sampling/sobol_sampler.h"
 
 namespace lt {
 
@@ -62,6 +63,8 @@ RenderStats render(const Scene& scene, const PixelEstimator& estimator, const Re
         throw Error("the film's planes are not the estimator's (make the film with estimator.planes())");
     const PixelRect window = film.window();
     const int reuse = estimator.reuseTileSize();
+    if (reuse > 0 && settings.sampler != SamplerKind::Independent)
+        throw Error("an estimator that works a tile at a time draws its own independent numbers: no other sampler");
     const int ts = reuse > 0 ? reuse : std::max(1, settings.tileSize);
     // A jittered grid needs one more tile per row and column to cover the window.
     const int extra = reuse > 0 ? 1 : 0;
@@ -144,23 +147,32 @@ RenderStats render(const Scene& scene, const PixelEstimator& estimator, const Re
                         const StrategyCallback collect = [&](const StrategyPath& sp) {
                             item->candidates.push_back(seedCandidate(scene, film, sp, pixel, uint64_t(item->pass)));
                         };
+                        // One pixel sample; generic over the sampler so that its calls need no dispatch here.
+                        const auto estimatePixel = [&](int x, int y, auto& sampler) {
+                            const Vec2 raster = film.sampleRaster(x, y, sampler.next2D());
+                            splats.clear();
+                            planeValues.clear();
+                            PixelSample out{x, y, splats, planeValues, item->health, seeds ? &collect : nullptr};
+                            const Spectrum L = estimator.estimate(raster, sampler, out);
+                            r.splats.insert(r.splats.end(), splats.begin(), splats.end());
+                            for (const auto& v : planeValues)
+                                r.planeValues.push_back({v.plane, x + v.dx, y + v.dy, v.value});
+                            if (estimator.tracesLightPaths()) ++r.lightPaths;
+                            const size_t i = size_t(y - r.rect.y0) * size_t(r.rect.width()) + size_t(x - r.rect.x0);
+                            for (int c = 0; c < 3; ++c)
+                                r.sum[3 * i + size_t(c)] += L[c];
+                            ++r.count[i];
+                        };
                         for (int y = r.rect.y0; y < r.rect.y1; ++y)
                             for (int x = r.rect.x0; x < r.rect.x1; ++x) {
                                 pixel = uint64_t(y) * uint64_t(scene.camera.film().width) + uint64_t(x);
-                                IndependentSampler sampler = pixelSampler(settings.seed, item->pass, pixel);
-                                const Vec2 raster = film.sampleRaster(x, y, sampler.next2D());
-                                splats.clear();
-                                planeValues.clear();
-                                PixelSample out{x, y, splats, planeValues, item->health, seeds ? &collect : nullptr};
-                                const Spectrum L = estimator.estimate(raster, sampler, out);
-                                r.splats.insert(r.splats.end(), splats.begin(), splats.end());
-                                for (const auto& v : planeValues)
-                                    r.planeValues.push_back({v.plane, x + v.dx, y + v.dy, v.value});
-                                if (estimator.tracesLightPaths()) ++r.lightPaths;
-                                const size_t i = size_t(y - r.rect.y0) * size_t(r.rect.width()) + size_t(x - r.rect.x0);
-                                for (int c = 0; c < 3; ++c)
-                                    r.sum[3 * i + size_t(c)] += L[c];
-                                ++r.count[i];
+                                if (settings.sampler == SamplerKind::Sobol) {
+                                    SobolSampler sampler(settings.seed, pixel, uint32_t(item->pass));
+                                    estimatePixel(x, y, sampler);
+                                } else {
+                                    IndependentSampler sampler = pixelSampler(settings.seed, item->pass, pixel);
+                                    estimatePixel(x, y, sampler);
+                                }
                             }
                         EmbreeAccel::flushRayCount();
                         return item;

@@ -22,12 +22,17 @@ namespace lt {
 
 enum class PixelMethod { Bdpt, PathTracing };
 
+// Where a pixel sample's random numbers come from: independent uniform numbers (PCG32), or padded
+// Owen-scrambled Sobol' points stratified over the pixel's samples (sampling/sobol_sampler.h).
+enum class SamplerKind { Independent, Sobol };
+
 struct RenderSettings {
     PathSettings paths;   // path length, Russian roulette and MIS of the estimator
     int spp = 16;         // samples per pixel (with timeLimit: an upper bound, 0 = none)
     double timeLimit = 0; // seconds; 0 = render exactly spp samples per pixel
     int threads = 0;      // 0 = all cores
     uint64_t seed = 0;
+    SamplerKind sampler = SamplerKind::Independent; // estimators that work a tile at a time take Independent only
     int tileSize = 32;          // ignored by estimators with their own tiles (PixelEstimator::reuseTileSize)
     SnapshotSchedule snapshots; // checked at the end of every complete pass
 };

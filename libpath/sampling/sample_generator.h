@@ -18,7 +18,9 @@ public:
     enum Stream : int { CameraStream = 0, LightStream = 1, ConnectStream = 2 };
     virtual void startStream(Stream) {}
     [[nodiscard]] virtual double next1D() = 0;
-    [[nodiscard]] Vec2 next2D() {
+    // Two numbers that belong together (a direction, a point on a light): a stratified sampler
+    // (sampling/sobol_sampler.h) stratifies them jointly. Otherwise two calls of next1D, in that order.
+    [[nodiscard]] virtual Vec2 next2D() {
         const double a = next1D();
         return {a, next1D()};
     }
@@ -31,6 +33,10 @@ class IndependentSampler final : public SampleGenerator {
 public:
     IndependentSampler(uint64_t seed, uint64_t stream) : rng_(seed, stream) {}
     [[nodiscard]] double next1D() override { return rng_.nextDouble(); }
+    [[nodiscard]] Vec2 next2D() override {
+        const double a = rng_.nextDouble();
+        return {a, rng_.nextDouble()};
+    }
     Pcg32& rng() { return rng_; }
 
 private:

@@ -13,7 +13,7 @@
 # then Tungsten, so that a drift of the machine's speed reaches both; the last column is lt / Tungsten.
 # With TUNGSTEN, path tracing and multiplexed MLT (those of METHODS) at equal time as well: EQUAL_TIME seconds
 # (default 60; 0 skips it) on 2 threads each, relMSE of both images against scenes/cornell-box/reference.exr
-# (lt-error), and each renderer's wall
+# (lt-error; path tracing with each renderer's independent and its stratified sampler), and each renderer's wall
 # time (Tungsten finishes the step of samples it is in when its timeout comes). Tungsten built against
 # Debian's OpenEXR 3 writes its HDR image only as PFM (its CMake looks for OpenEXR 2's IlmImf): oiiotool
 # (Debian's openimageio-tools) converts it to EXR for lt-error.
@@ -199,12 +199,33 @@ scene["renderer"].update({"timeout": f"{sys.argv[3]}s", "spp": 1 << 20, "spp_ste
 json.dump(scene, open(sys.argv[2], "w"))
 PY
     if [ "$method" = pt ]; then
-      measure "$bin/lt-seed" "$box" --method pt --time "$equal_time" --resolution "${size}x$size" --threads 2 \
-        -o "$out/timed.lts" > /dev/null
-    else
-      measure "$bin/lt-mutate" "$box" --space "$method" --time "$equal_time" --resolution "${size}x$size" --threads 2 \
-        -o "$out/timed.lts" > /dev/null
+      # Like with like: lt's independent numbers against Tungsten's uniform sampler (the example scene's
+      # "stratified_sampler": false), and lt's Sobol sampler against Tungsten's (true).
+      images=()
+      for sampler in independent sobol; do
+        measure "$bin/lt-seed" "$box" --method pt --sampler "$sampler" --time "$equal_time" \
+          --resolution "${size}x$size" --threads 2 -o "$out/timed-$sampler.lts" > /dev/null
+        echo "lt, $sampler: $(tail -1 "$out/log")"
+        images+=("$out/timed-$sampler.lts")
+      done
+      for stratified in false true; do
+        python3 - "$out/tungsten-timed.json" "$stratified" <<'PY'
+import json, sys
+scene = json.load(open(sys.argv[1]))
+scene["renderer"]["stratified_sampler"] = sys.argv[2] == "true"
+json.dump(scene, open(sys.argv[1], "w"))
+PY
+        measure_tungsten "$tungsten" -t 2 -s 1 -d "$out/tungsten" "$out/tungsten-timed.json" > /dev/null
+        echo "Tungsten, stratified_sampler $stratified: $(grep -o 'Render time.*' "$out/log" | tail -1)"
+        [ -f "$out/tungsten/render.pfm" ] || { echo "peers.sh: Tungsten wrote no render.pfm" >&2; exit 1; }
+        oiiotool "$out/tungsten/render.pfm" -o "$out/tungsten-stratified-$stratified.exr"
+        images+=("$out/tungsten-stratified-$stratified.exr")
+      done
+      "$bin/lt-error" --ref "$reference" "${images[@]}"
+      continue
     fi
+    measure "$bin/lt-mutate" "$box" --space "$method" --time "$equal_time" --resolution "${size}x$size" --threads 2 \
+      -o "$out/timed.lts" > /dev/null
     echo "lt: $(tail -1 "$out/log")"
     measure_tungsten "$tungsten" -t 2 -s 1 -d "$out/tungsten" "$out/tungsten-timed.json" > /dev/null
     echo "Tungsten: $(grep -o 'Render time.*' "$out/log" | tail -1)"

@@ -92,4 +92,11 @@ check "--threads -1 refused" '[ $code -ne 0 ] && [ "$(echo "$out" | wc -l)" -eq 
 check "no output left behind by failed runs" '[ ! -e "$tmp/x.lts" ]'
 "$bin/lt-seed" "$tmp/box.xml" -o "$tmp/r.lts" --resolution 8x6 --method pt -q
 check "--resolution and --method pt" '[ "$(tail -c 16 "$tmp/r.lts" | head -c 4)" = "END!" ]'
+for m in pt bdpt; do
+  "$bin/lt-seed" "$tmp/box.xml" -o "$tmp/s-$m.lts" --resolution 8x6 --method $m --sampler sobol --spp 4 -q
+  check "--sampler sobol with --method $m: a complete file that records the sampler" \
+    '[ "$(tail -c 16 "$tmp/s-$m.lts" | head -c 4)" = "END!" ] && "$bin/lt-inspect" "$tmp/s-$m.lts" | grep -q "sobol"'
+done
+out=$("$bin/lt-seed" "$tmp/box.xml" -o "$tmp/x.lts" --sampler halton 2>&1); code=$?
+check "an unknown --sampler refused in one line" '[ $code -ne 0 ] && [ "$(echo "$out" | wc -l)" -eq 1 ] && [ ! -e "$tmp/x.lts" ]'
 exit $fail

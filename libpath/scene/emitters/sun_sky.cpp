@@ -10,6 +10,7 @@
 #include "math/frame.h"
 #include "math/memory_budget.h"
 #include "math/warp.h"
+#include "sampling/sobol_sampler.h"
 #include "scene/emitters/preetham_sun.h"
 
 namespace lt {
@@ -45,15 +46,8 @@ void checkSettings(const DaylightSettings& s, bool withSky) {
                     " degrees): the sky and sun models do not hold there");
 }
 
-// Van der Corput's radical inverse in base 2: with (i + 1/2) / n, the Hammersley points.
-double radicalInverse2(uint32_t i) {
-    i = (i << 16) | (i >> 16);
-    i = ((i & 0x00ff00ffu) << 8) | ((i & 0xff00ff00u) >> 8);
-    i = ((i & 0x0f0f0f0fu) << 4) | ((i & 0xf0f0f0f0u) >> 4);
-    i = ((i & 0x33333333u) << 2) | ((i & 0xccccccccu) >> 2);
-    i = ((i & 0x55555555u) << 1) | ((i & 0xaaaaaaaau) >> 1);
-    return i * 0x1p-32;
-}
+// Van der Corput's radical inverse in base 2 (Sobol's first component): with (i + 1/2) / n, the Hammersley points.
+double radicalInverse2(uint32_t i) { return sobolComponent0(i) * 0x1p-32; }
 
 // The sun as seen, radius scaled and direction stretched (Mitsuba sun.cpp configure), and the irradiance
 // of the true disk (radiance times its solid angle), which a scaled disk keeps.

@@ -15,7 +15,7 @@ uint32_t reverseBits(uint32_t x) {
 
 // Owen's scramble on the REVERSED digits of a fraction (leading digit in bit 0): addition and xor with a
 // multiple by an even constant change bit k only as a function of the bits below it, the hierarchy of Owen's
-// scramble (Burley 2020, Listing 2, with its constants).
+// scramble (Burley 2020's hash and constants).
 uint32_t scrambleReversed(uint32_t r, uint32_t seed) {
     r += seed;
     r ^= r * 0x6c50b47cu;

@@ -1,5 +1,5 @@
 // Stratified random numbers for the pixel estimators: padded, shuffled, Owen-scrambled Sobol' points
-// (Burley 2020, "Practical Hash-based Owen Scrambling", JCGT 9(4), Sec. 3-5).
+// (Burley 2020, "Practical Hash-based Owen Scrambling", JCGT 9(4)).
 //
 // The samples of one pixel are the points of one sequence, sample index = point index. Each call of
 // next1D or next2D takes the next "slot" of the sample and gets its own copy of the first one or two
@@ -10,7 +10,7 @@
 // dimension limit), while the shuffles keep different slots, and different pixels, uncorrelated. A 2D
 // sample keeps its stratification only if it is drawn with next2D, one slot for both numbers.
 //
-// Every sample alone is uniform on the unit hypercube (each scramble is a uniform random permutation of
+// Every sample alone is uniform on the unit hypercube (each hashed scramble acts as a random permutation of
 // the digits), so every estimator stays unbiased; only the variance over a pixel's samples changes.
 #pragma once
 
@@ -22,15 +22,16 @@ namespace lt {
 
 // The first two dimensions of Sobol's sequence as 32-bit binary fractions: the van der Corput radical
 // inverse and Sobol's second component, whose generator matrix is Pascal's triangle mod 2 (Kollig and
-// Keller 2002, "Efficient Multidimensional Sampling", Sec. 3). Together a (0, 2)-sequence in base 2:
+// Keller 2002, "Efficient Multidimensional Sampling"). Together a (0, 2)-sequence in base 2:
 // every aligned block of 2^m consecutive points is a (0, m, 2)-net.
 [[nodiscard]] uint32_t sobolComponent0(uint32_t index);
 [[nodiscard]] uint32_t sobolComponent1(uint32_t index);
 
-// Owen's nested uniform scramble of a 32-bit binary fraction by a hash (Burley 2020, Listings 1-2, after
-// Laine and Karras 2011): digit k is flipped by a function of the seed and of digits 1 .. k-1 only, so each
-// elementary interval maps onto one of the same size and a (0, m, 2)-net stays one. Applied to a point
-// index, it shuffles the points within every aligned block of 2^m indices (Burley Sec. 4).
+// Owen's nested uniform scramble of a 32-bit binary fraction by a hash (Burley 2020, after Laine and Karras
+// 2011): digit k is flipped by a function of the seed and of digits 1 .. k-1 only, so each elementary
+// interval maps onto one of the same size and a (0, m, 2)-net stays one. Applied to a point index (Burley's
+// shuffle), it maps every aligned block of 2^m indices onto an aligned block of 2^m, in a scrambled order:
+// the first 2^m samples of a pixel are then one aligned block of the (0, 2)-sequence, a net.
 [[nodiscard]] uint32_t owenScramble(uint32_t x, uint32_t seed);
 
 class SobolSampler final : public SampleGenerator {

@@ -1,17 +1,11 @@
 #include "sampling/sobol_sampler.h"
 
+#include "math/bit_reversal.h"
 #include "math/rng.h"
 
 namespace lt {
 
 namespace {
-
-uint32_t reverseBits(uint32_t x) {
-    x = __builtin_bswap32(x);
-    x = ((x & 0x0f0f0f0fu) << 4) | ((x & 0xf0f0f0f0u) >> 4);
-    x = ((x & 0x33333333u) << 2) | ((x & 0xccccccccu) >> 2);
-    return ((x & 0x55555555u) << 1) | ((x & 0xaaaaaaaau) >> 1);
-}
 
 // Owen's scramble on the REVERSED digits of a fraction (leading digit in bit 0): addition and xor with a
 // multiple by an even constant change bit k only as a function of the bits below it, the hierarchy of Owen's

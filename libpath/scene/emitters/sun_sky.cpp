@@ -5,12 +5,12 @@
 #include <cstdint>
 #include <sstream>
 
+#include "math/bit_reversal.h"
 #include "math/constants.h"
 #include "math/error.h"
 #include "math/frame.h"
 #include "math/memory_budget.h"
 #include "math/warp.h"
-#include "sampling/sobol_sampler.h"
 #include "scene/emitters/preetham_sun.h"
 
 namespace lt {
@@ -46,8 +46,8 @@ void checkSettings(const DaylightSettings& s, bool withSky) {
                     " degrees): the sky and sun models do not hold there");
 }
 
-// Van der Corput's radical inverse in base 2 (Sobol's first component): with (i + 1/2) / n, the Hammersley points.
-double radicalInverse2(uint32_t i) { return sobolComponent0(i) * 0x1p-32; }
+// Van der Corput's radical inverse in base 2: with (i + 1/2) / n, the Hammersley points.
+double radicalInverse2(uint32_t i) { return reverseBits(i) * 0x1p-32; }
 
 // The sun as seen, radius scaled and direction stretched (Mitsuba sun.cpp configure), and the irradiance
 // of the true disk (radiance times its solid angle), which a scaled disk keeps.

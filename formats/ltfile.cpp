@@ -21,8 +21,8 @@
 #include <system_error>
 #include <type_traits>
 
-#include "math/error.h"
-#include "math/temp_output.h"
+#include "util/error.h"
+#include "util/temp_output.h"
 
 namespace lt::file {
 namespace {

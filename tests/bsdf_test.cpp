@@ -33,7 +33,7 @@
 #include "bsdf/twosided.h"
 #include "bsdf/ward.h"
 #include "math/constants.h"
-#include "math/error.h"
+#include "util/error.h"
 #include "math/frame.h"
 #include "math/rng.h"
 #include "math/warp.h"
@@ -108,7 +108,7 @@ std::vector<Named> allBsdfs() {
     v.push_back({"twosided(diffuse)", std::make_shared<TwoSided>(TwoSidedParams{
                                           std::make_shared<Diffuse>(DiffuseParams{tex(0.8)}), nullptr})});
     v.push_back({"dielectric", std::make_shared<Dielectric>(DielectricParams{})});
-    v.push_back({"thindielectric", std::make_shared<ThinDielectric>(ThinDielectricParams{})});
+    v.push_back({"thindielectric", std::make_shared<ThinDielectric>(DielectricParams{})});
     v.push_back({"conductor", std::make_shared<Conductor>(ConductorParams{})});
     for (MicrofacetType t : {MicrofacetType::Beckmann, MicrofacetType::GGX})
         for (double a : {1e-3, 0.1, 0.6}) {
@@ -379,7 +379,7 @@ TEST_CASE("energy: analytic balances", "[bsdf]") {
         }
     }
     SECTION("thin dielectric: R + T = 1") {
-        const ThinDielectric t(ThinDielectricParams{});
+        const ThinDielectric t(DielectricParams{});
         for (double th : {0.0, 45.0, 89.9}) {
             const Vec3 wi = dirFromAngles(th, 0);
             const auto r = t.sample(wi, UV, Transport::Radiance, 0, {});
@@ -431,11 +431,11 @@ TEST_CASE("energy: analytic balances", "[bsdf]") {
 TEST_CASE("delta lobes: deltaEval agrees with sample, eval/pdf are zero", "[bsdf]") {
     std::vector<Named> deltas = {
         {"dielectric", std::make_shared<Dielectric>(DielectricParams{})},
-        {"thindielectric", std::make_shared<ThinDielectric>(ThinDielectricParams{})},
+        {"thindielectric", std::make_shared<ThinDielectric>(DielectricParams{})},
         {"conductor", std::make_shared<Conductor>(ConductorParams{})},
         {"plastic", std::make_shared<Plastic>(PlasticParams{})},
-        {"twosided(conductor)", std::make_shared<TwoSided>(TwoSidedParams{
-                                    std::make_shared<Conductor>(ConductorParams{}), nullptr})},
+        {"twosided(conductor)",
+         std::make_shared<TwoSided>(TwoSidedParams{std::make_shared<Conductor>(ConductorParams{}), nullptr})},
     };
     for (const Blend& b : blends())
         if (b.params.first->hasDelta() || b.params.second->hasDelta())

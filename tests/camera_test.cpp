@@ -10,7 +10,7 @@
 #include <cmath>
 
 #include "math/constants.h"
-#include "math/error.h"
+#include "util/error.h"
 #include "math/rng.h"
 #include "math/warp.h"
 #include "scene/camera.h"

@@ -42,7 +42,7 @@ inline SeededScene seededScene(const std::string& name, int maxDepth, uint64_t s
     scene->camera = scene->camera.withResolution(32, 32);
     PathSettings b;
     b.maxDepth = maxDepth;
-    auto seeds = seedWithBdpt(*scene, b, samples, keep, seed, 2, nullptr);
+    auto seeds = seedWithBdpt(*scene, b, samples, keep, seed, RunControl(2));
     return {std::move(scene), std::move(seeds)};
 }
 
@@ -64,9 +64,8 @@ inline std::vector<float> runChains(const Scene& scene, PrimarySpace space, int 
     ChainRunSettings rs;
     rs.mutations = mutations;
     rs.chains = 128;
-    rs.threads = threads;
     rs.seed = seed;
-    const auto st = runPrimarySpaceChains(scene, ps, rs, film, {}, nullptr);
+    const auto st = runPrimarySpaceChains(scene, ps, rs, film, RunControl(threads));
     REQUIRE(st.health.nonFinite == 0);
     REQUIRE(st.mutations == mutations);
     return film.develop(st.normalization.b());
@@ -80,16 +79,15 @@ inline std::vector<float> runPathMix(const Scene& scene, const std::string& stra
     SampleFilm film(scene.camera);
     PathSettings b;
     b.maxDepth = maxDepth;
-    const auto seeds = seedWithBdpt(scene, b, seedSamples, 1024, seed * 7919 + 1, threads, nullptr);
+    const auto seeds = seedWithBdpt(scene, b, seedSamples, 1024, seed * 7919 + 1, RunControl(threads));
     std::vector<std::unique_ptr<Mutation>> owned;
     std::vector<WeightedMutation> mix;
-    makeMutations(chooseMutations(strategies, analyzeScene(scene)), scene, {maxDepth}, owned, mix);
+    makeMutations(chooseMutations(strategies, analyzeScene(scene)), {scene, maxDepth}, {}, owned, mix);
     ChainRunSettings rs;
     rs.mutations = mutations;
     rs.chains = 32;
-    rs.threads = threads;
     rs.seed = seed;
-    const auto st = runPathSpaceChains(scene, seeds, mix, rs, b, 1.0 / 16, film, {}, nullptr);
+    const auto st = runPathSpaceChains(scene, seeds, mix, rs, b, 1.0 / 16, film, RunControl(threads));
     REQUIRE(st.health.nonFinite == 0);
     REQUIRE(st.mutations == mutations);
     if (stats) {
@@ -144,7 +142,7 @@ inline void checkAgainstBdpt(Scene& scene, int depth, int runs,
         rs.paths = b;
         rs.spp = bdptSpp;
         rs.seed = 100 + seed;
-        render(scene, Bdpt(scene, b), rs, film, {}, nullptr);
+        render(scene, Bdpt(scene, b), rs, film, RunControl(2));
         return film.develop();
     });
     for (const auto& [name, renderer] : methods) {

@@ -6,7 +6,7 @@
 #include <limits>
 
 #include "math/distribution.h"
-#include "math/error.h"
+#include "util/error.h"
 #include "math/rng.h"
 
 using namespace lt;

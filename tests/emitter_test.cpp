@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "math/constants.h"
-#include "math/error.h"
+#include "util/error.h"
 #include "math/rng.h"
 #include "math/warp.h"
 #include "path/vertex.h"

@@ -8,7 +8,7 @@
 #include "formats/ltfile.h"
 #include "image/error_metrics.h"
 #include "image/image_io.h"
-#include "math/error.h"
+#include "util/error.h"
 #include "test_util.h"
 
 using namespace lt;

@@ -14,8 +14,8 @@
 #include "bsdf/half_vector.h"
 #include "bsdf/roughconductor.h"
 #include "bsdf/roughdielectric.h"
-#include "mcmc/chain_gradient.h"
-#include "mcmc/chain_stream.h"
+#include "gdmlt/chain_gradient.h"
+#include "gdmlt/chain_stream.h"
 #include "gradient/gradient_path_tracer.h"
 #include "gradient/path_reusing.h"
 #include "math/rng.h"
@@ -107,25 +107,23 @@ GradientImage renderGradient(const Scene& scene, const PixelEstimator& estimator
     RenderSettings rs;
     rs.spp = spp;
     rs.seed = seed;
-    rs.threads = 2;
-    const RenderStats st = render(scene, estimator, rs, film, {}, nullptr);
+    const RenderStats st = render(scene, estimator, rs, film, RunControl(2));
     REQUIRE(st.health.nonFinite == 0);
     return gradientImageFromBuffer(film.toBuffer(), "test");
 }
 
-std::vector<float> renderWith(PixelMethod method, const Scene& scene, int spp, uint64_t seed) {
+std::vector<float> renderWith(test::PixelMethod method, const Scene& scene, int spp, uint64_t seed) {
     SampleFilm film(scene.camera);
     RenderSettings rs;
     rs.paths = settingsFor(scene).paths;
     rs.spp = spp;
     rs.seed = seed;
-    rs.threads = 2;
-    (void)render(scene, *makePixelEstimator(method, scene, rs.paths), rs, film, {}, nullptr);
+    (void)render(scene, *test::makePixelEstimator(method, scene, rs.paths), rs, film, RunControl(2));
     return film.develop();
 }
 
 std::vector<float> renderPt(const Scene& scene, int spp, uint64_t seed) {
-    return renderWith(PixelMethod::PathTracing, scene, spp, seed);
+    return renderWith(test::PixelMethod::PathTracing, scene, spp, seed);
 }
 
 // Mean luminance over square regions of `r` pixels of an image given per pixel (RGB at index i).
@@ -736,11 +734,10 @@ TEST_CASE("the variance planes hold the sample variance of the passes' values", 
         SampleFilm film(scene->camera, est->planes());
         RenderSettings rs;
         rs.spp = passes;
-        rs.threads = 2;
         rs.snapshots = SnapshotSchedule::parseSamples("1,2,3,4,5,6");
         std::vector<file::Buffer> snaps;
-        (void)render(*scene, *est, rs, film, {}, nullptr, nullptr,
-                     [&](const RunProgress&, const file::Buffer& b) { snaps.push_back(b); });
+        (void)render(*scene, *est, rs, film,
+                     RunControl(2, [&](const RunProgress&, const file::Buffer& b) { snaps.push_back(b); }));
         REQUIRE(snaps.size() == size_t(passes));
         const file::Buffer last = film.toBuffer();
         auto channel = [](const file::Buffer& b, const std::string& name) -> const std::vector<float>& {
@@ -799,14 +796,13 @@ StreamedRun runStreamedChains(const Scene& scene, const std::string& file, uint6
                               const PathTarget& target = {}) {
     PathSettings bdpt;
     bdpt.maxDepth = scene.integrator.maxDepth;
-    const auto seeds = seedWithBdpt(scene, bdpt, 20000, 1024, seed * 7919 + 1, 2, nullptr, target);
+    const auto seeds = seedWithBdpt(scene, bdpt, 20000, 1024, seed * 7919 + 1, RunControl(2), target);
     std::vector<std::unique_ptr<Mutation>> owned;
     std::vector<WeightedMutation> mix;
-    makeMutations(chooseMutations("bidirectional,lens", analyzeScene(scene)), scene, {bdpt.maxDepth}, owned, mix);
+    makeMutations(chooseMutations("bidirectional,lens", analyzeScene(scene)), {scene, bdpt.maxDepth}, {}, owned, mix);
     ChainRunSettings rs;
     rs.mutations = mutations;
     rs.chains = 32;
-    rs.threads = 2;
     rs.seed = seed;
     SampleFilm film(scene.camera);
     StreamedRun out;
@@ -819,7 +815,7 @@ StreamedRun runStreamedChains(const Scene& scene, const std::string& file, uint6
                 parts.push_back(&s);
             writer.writeChainRound(figures, parts);
         };
-        const auto st = runPathSpaceChains(scene, seeds, mix, rs, bdpt, 1.0 / 16, film, {}, nullptr, {}, dump, target);
+        const auto st = runPathSpaceChains(scene, seeds, mix, rs, bdpt, 1.0 / 16, film, RunControl(2), dump, target);
         REQUIRE(st.health.nonFinite == 0);
         writer.finish();
         out.b = st.b;
@@ -827,9 +823,7 @@ StreamedRun runStreamedChains(const Scene& scene, const std::string& file, uint6
     }
     file::Reader reader(file, file::FileKind::Paths);
     ShiftStatistics shifts;
-    ChainStreamSettings cs;
-    cs.threads = 2;
-    const auto gs = gradientsFromStream(scene, reader, cs, out.gradients, shifts, {}, {}, nullptr);
+    const auto gs = gradientsFromStream(scene, reader, ChainStreamSettings{}, out.gradients, shifts, RunControl(2));
     REQUIRE(gs.health.nonFinite == 0);
     return out;
 }
@@ -920,7 +914,7 @@ TEST_CASE("GDMLT: primal and gradients from chain states are unbiased against BD
         }
         std::array<std::vector<std::vector<double>>, 3> bdpt;
         for (int run = 0; run < runs; ++run) {
-            const auto img = renderWith(PixelMethod::Bdpt, *scene, 16, 500 + uint64_t(run));
+            const auto img = renderWith(test::PixelMethod::Bdpt, *scene, 16, 500 + uint64_t(run));
             auto px = [&](int x, int y) {
                 const size_t i = size_t(y * w + x);
                 return Spectrum(img[3 * i], img[3 * i + 1], img[3 * i + 2]);

@@ -418,7 +418,9 @@ TEST_CASE("HSLT: the density of the drawn half vectors is the T(x -> y) computed
             const MarkovPath x = pathFromRecord(*scene, seeds.paths[i], i);
             if (!mutation.suitable(x)) continue;
             for (int k = 0; k < 4; ++k) {
+                WalkFigures figures; // where the proposal records its walk
                 Proposal p;
+                p.figures = &figures;
                 mutation.propose(x, rng, p);
                 if (p.failed) continue;
                 const double d = test::proposalDensityMismatch(mutation, p);
@@ -426,7 +428,7 @@ TEST_CASE("HSLT: the density of the drawn half vectors is the T(x -> y) computed
                 atInfinity += x.v[0].infinite;
                 // A jump's T(x -> y) is recomputed from its preimage (half_vector_walk.h): the drawn half
                 // vectors up to rounding.
-                jumps += p.walk->jump == JumpOutcome::Proposed;
+                jumps += figures.walk->jump == JumpOutcome::Proposed;
                 off += !(d < 1e-3);
                 worst = std::max(worst, d);
             }
@@ -494,17 +496,17 @@ TEST_CASE("T-HS-6: the image-plane limit spreads the chains' samples more evenly
     scene->camera = scene->camera.withResolution(res, res);
     PathSettings bdpt;
     bdpt.maxDepth = 6;
-    const auto seeds = seedWithBdpt(*scene, bdpt, 20000, 1024, 11, 2, nullptr);
+    const auto seeds = seedWithBdpt(*scene, bdpt, 20000, 1024, 11, RunControl(2));
     const auto countsOf = [&](double stratify, uint64_t seed) {
-        MutationSettings settings{bdpt.maxDepth};
-        settings.hsltStratify = stratify;
+        OptionValues values;
+        values.put("hslt_stratify", stratify);
         std::vector<std::unique_ptr<Mutation>> owned;
         std::vector<WeightedMutation> mix;
-        makeMutations(chooseMutations("bidirectional,hslt:15", analyzeScene(*scene)), *scene, settings, owned, mix);
+        makeMutations(chooseMutations("bidirectional,hslt:15", analyzeScene(*scene)), {*scene, bdpt.maxDepth}, values,
+                      owned, mix);
         ChainRunSettings run;
         run.mutations = uint64_t(res * res) * 8;
         run.chains = 1024;
-        run.threads = 2;
         run.seed = seed;
         std::vector<double> counts(size_t(res * res), 0.0);
         PathDump dump;
@@ -516,7 +518,7 @@ TEST_CASE("T-HS-6: the image-plane limit spreads the chains' samples more evenly
             }
         };
         SampleFilm film(scene->camera);
-        const auto stats = runPathSpaceChains(*scene, seeds, mix, run, bdpt, 0, film, {}, nullptr, {}, dump);
+        const auto stats = runPathSpaceChains(*scene, seeds, mix, run, bdpt, 0, film, RunControl(2), dump);
         REQUIRE(stats.mutations == run.mutations);
         return counts;
     };

@@ -14,7 +14,7 @@
 #include "image/buffer_merge.h"
 #include "image/image_io.h"
 #include "texture/exr_header.h"
-#include "math/error.h"
+#include "util/error.h"
 #include "test_util.h"
 
 namespace fs = std::filesystem;

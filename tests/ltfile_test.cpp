@@ -23,7 +23,7 @@
 #include <thread>
 
 #include "formats/ltfile.h"
-#include "math/error.h"
+#include "util/error.h"
 #include "test_util.h"
 
 namespace fs = std::filesystem;

@@ -8,7 +8,7 @@
 #include <sstream>
 #include <vector>
 
-#include "math/error.h"
+#include "util/error.h"
 #include "math/rng.h"
 #include "manifold/chains_in_path.h"
 #include "math/von_mises_fisher.h"
@@ -100,7 +100,7 @@ namespace {
 std::vector<MarkovPath> seedStates(const Scene& scene, int depth, size_t samples, size_t paths) {
     PathSettings b;
     b.maxDepth = depth;
-    const auto seeds = seedWithBdpt(scene, b, samples, paths, 1, 2, nullptr);
+    const auto seeds = seedWithBdpt(scene, b, samples, paths, 1, RunControl(2));
     std::vector<MarkovPath> out;
     for (size_t i = 0; i < seeds.paths.size(); ++i) {
         try {
@@ -233,14 +233,14 @@ TEST_CASE("MEMLT and HSLT on stiff cases: index nearly matched and 4, scene scal
                 rejected += r;
             CHECK(rejected <= m.proposed - m.accepted);
             CHECK(m.rejected[size_t(RejectCause::NonFinite)] == 0);
-            const auto& w = m.walks;
+            const auto& w = walksOf(stats, 1);
             uint64_t failed = 0;
             for (size_t i = 1; i < w.byCause.size(); ++i)
                 failed += w.byCause[i];
             CHECK(w.attempted == w.converged + failed);
             CHECK(w.converged > 0);
             // HSLT's walks each chose a projection order (all but those whose state had no chart).
-            if (m.walks.fromEye + m.walks.fromLight > 0)
+            if (w.fromEye + w.fromLight > 0)
                 CHECK(w.fromEye + w.fromLight == w.attempted - w.byCause[size_t(WalkFailure::Singular)]);
         }
 }
@@ -271,7 +271,7 @@ TEST_CASE("MEMLT and HSLT in the furnace box with a mirror ball and a glass ball
         INFO(mix << ": " << m.mean << " +- " << m.error << ", exact " << exact << "\n" << stats.text());
         CHECK(std::abs(m.mean - exact) < 5 * m.error + 1e-3 * exact);
         CHECK(m.error < 0.02 * exact);
-        CHECK(stats[1].walks.converged > 100);
+        CHECK(walksOf(stats, 1).converged > 100);
         CHECK(stats[1].accepted > stats[1].proposed / 4);
     }
 }

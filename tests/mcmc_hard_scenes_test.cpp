@@ -54,9 +54,8 @@ TEST_CASE("multiplexed chains reach a path length the start-up missed", "[mcmc][
     ChainRunSettings rs;
     rs.mutations = 1 << 22;
     rs.chains = 64;
-    rs.threads = 2;
     rs.seed = 1;
-    const auto st = runPrimarySpaceChains(*scene, ps, rs, film, {}, nullptr);
+    const auto st = runPrimarySpaceChains(*scene, ps, rs, film, RunControl(2));
     INFO("length 1: " << st.chainsPerLength[1] << " chains started, " << st.mutationsPerLength[1] << " mutations, b_1 "
                       << st.normalization.stratumB(1) << " of b " << st.normalization.b());
     REQUIRE(st.chainsPerLength[1] == 0); // the case of the test: the start-up found no light at length 1

@@ -91,9 +91,8 @@ TEST_CASE("the multiplexed start-up spends its work where b's spread is, and sto
         ChainRunSettings rs;
         rs.mutations = 256;
         rs.chains = 4;
-        rs.threads = 2;
         rs.seed = seed;
-        return runPrimarySpaceChains(scene, ps, rs, film, {}, nullptr);
+        return runPrimarySpaceChains(scene, ps, rs, film, RunControl(2));
     };
     auto scene = loadScene(shippedScene("cornell-box"));
     scene->camera = scene->camera.withResolution(32, 32);
@@ -274,7 +273,7 @@ TEST_CASE("over 16 seeds the chains' image means on cornell-box agree with BDPT 
         rs.paths.rrDepth = scene->integrator.rrDepth;
         rs.spp = 32;
         rs.seed = 1000 + seed;
-        render(*scene, Bdpt(*scene, rs.paths), rs, film, {}, nullptr);
+        render(*scene, Bdpt(*scene, rs.paths), rs, film, {});
         bdpt.push_back(mean(film.develop()));
     }
     const auto reference = meanAndError(bdpt);
@@ -302,17 +301,16 @@ TEST_CASE("over 16 seeds the chains' image means on cornell-box agree with BDPT 
         PathSettings b;
         b.maxDepth = depth;
         b.rrDepth = scene->integrator.rrDepth;
-        const auto seeds = seedWithBdpt(*scene, b, 100000, 1024, seed * 7919 + 1, 2, nullptr);
+        const auto seeds = seedWithBdpt(*scene, b, 100000, 1024, seed * 7919 + 1, RunControl(2));
         std::vector<std::unique_ptr<Mutation>> owned;
         std::vector<WeightedMutation> mix;
-        makeMutations(chooseMutations("auto", analyzeScene(*scene)), *scene, {depth}, owned, mix);
+        makeMutations(chooseMutations("auto", analyzeScene(*scene)), {*scene, depth}, {}, owned, mix);
         ChainRunSettings rs;
         rs.mutations = mutations;
         rs.chains = 256;
-        rs.threads = 2;
         rs.seed = seed;
         SampleFilm film(scene->camera);
-        const auto st = runPathSpaceChains(*scene, seeds, mix, rs, b, 1.0 / 16, film, {}, nullptr);
+        const auto st = runPathSpaceChains(*scene, seeds, mix, rs, b, 1.0 / 16, film, RunControl(2));
         return film.develop(st.normalization.b());
     });
 }
@@ -347,7 +345,6 @@ TEST_CASE("a long MMLT run's relMSE keeps falling as 1 / mutations", "[mcmc][slo
     ChainRunSettings rs;
     rs.mutations = uint64_t(64) << 16;
     rs.chains = 64;
-    rs.threads = 2;
     rs.seed = 3;
     rs.mutationsPerRound = 1; // a round is then 1 mutation per pixel: every snapshot falls on its own round
     std::string points;
@@ -359,7 +356,7 @@ TEST_CASE("a long MMLT run's relMSE keeps falling as 1 / mutations", "[mcmc][slo
         logN.push_back(std::log(double(p.samples)));
         logE.push_back(std::log(reference.error(image, "snapshot", ErrorOptions{}).value));
     };
-    const auto st = runPrimarySpaceChains(*scene, ps, rs, film, {}, nullptr, snapshot);
+    const auto st = runPrimarySpaceChains(*scene, ps, rs, film, RunControl(2, snapshot));
     REQUIRE(logN.size() == 17);
     // Least squares over snapshots 8 .. 17.
     double sx = 0, sy = 0, sxx = 0, sxy = 0;

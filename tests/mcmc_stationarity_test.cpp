@@ -20,6 +20,7 @@
 #include "mcmc/image_contribution.h"
 #include "mcmc/path_space_chains.h"
 #include "mcmc/mutation_selection.h"
+#include "mcmc/mutations/walk_figures.h"
 #include "test_util.h"
 
 using namespace lt;
@@ -236,25 +237,24 @@ MutationStatistics checkVisits(const Scene& scene, const std::vector<double>& ex
     MutationStatistics last;
     // The manifold perturbation with lambda 5 instead of 50: steps ten times as large, so that each of its
     // stages moves the chains across bins often enough for a wrong factor in it to show.
-    MutationSettings settings{edges};
-    settings.lambda = 5;
+    OptionValues settings;
+    settings.put("lambda", 5.0);
     // The half-vector mutation with gamma 1 (the BSDF lobe's own width) and image steps of 10 % (HSLT: 2 %):
     // large enough to carry the chains across bins. (Larger image steps made the sum of z^2 of the glossy
     // pair erratic, 40 to 208 between seeds and step sizes with no trend: chains that stay long where
     // |det J| is small, not a bias.)
-    settings.hsltGamma = 1;
-    settings.hsltStratify = 0.1;
+    settings.put("hslt_gamma", 1.0);
+    settings.put("hslt_stratify", 0.1);
     // Its jumps between subspaces on (off by default in lt-mutate): their densities are tested here.
-    settings.hsltJumps = true;
+    settings.put("hslt_jumps", true);
     // The portal perturbation turning edges by up to 0.3 rad (default 2^-4): across bins, and far enough for
     // the portal's cosine to change by a third.
-    settings.portalMin = 0.01;
-    settings.portalMax = 0.3;
+    settings.put("portal_range", std::vector<double>{0.01, 0.3});
     // Seeds are draws in proportion to f*, so every chain starts in the stationary distribution: no
     // burn-in is discarded.
     PathSettings bdpt;
     bdpt.maxDepth = edges;
-    const auto seeds = seedWithBdpt(scene, bdpt, 16384, 4096, 17, 2, nullptr, target);
+    const auto seeds = seedWithBdpt(scene, bdpt, 16384, 4096, 17, RunControl(2), target);
     const auto regions = testRegions();
     // 64 chains of 24576 mutations per mix (unless said): about 3 s per mix on 2 threads, and every bin's
     // probability known to about 8 % (the marginals' to 1-3 %).
@@ -263,11 +263,10 @@ MutationStatistics checkVisits(const Scene& scene, const std::vector<double>& ex
     for (const auto& spec : mixes) {
         std::vector<std::unique_ptr<Mutation>> owned;
         std::vector<WeightedMutation> mix;
-        makeMutations(chooseMutations(spec, analyzeScene(scene)), scene, settings, owned, mix);
+        makeMutations(chooseMutations(spec, analyzeScene(scene)), {scene, edges}, settings, owned, mix);
         ChainRunSettings run;
         run.mutations = uint64_t(chains) * perChain;
         run.chains = chains;
-        run.threads = 2;
         run.seed = 29;
         // Every state after every mutation, per chain: its count in each bin.
         std::vector<std::vector<double>> counts(size_t(chains), std::vector<double>(Bins, 0.0));
@@ -292,7 +291,7 @@ MutationStatistics checkVisits(const Scene& scene, const std::vector<double>& ex
             }
         };
         SampleFilm film(scene.camera);
-        const auto stats = runPathSpaceChains(scene, seeds, mix, run, bdpt, 0, film, {}, nullptr, {}, dump, target);
+        const auto stats = runPathSpaceChains(scene, seeds, mix, run, bdpt, 0, film, RunControl(2), dump, target);
         REQUIRE(stats.mutations == run.mutations);
         REQUIRE(stats.health.nonFinite == 0);
         CHECK(elsewhere == 0);
@@ -525,7 +524,7 @@ TEST_CASE("HSLT's jumps between subspaces carry chains over a ridge in proportio
         checkVisits(*scene, expected, {"bidirectional,hslt:15"}, 2, Light, Glossy, 1, 0, 0, {"hslt"}, 2, 4 * 24576);
     // The jumps did carry the chains: many proposed, and accepted often enough to matter next to the
     // bidirectional mutation's crossings (1 in 16 proposals, most of them rejected).
-    const auto& walks = stats[1].walks;
+    const auto& walks = walksOf(stats, 1);
     INFO(walks.jumpsTried << " jumps tried, " << walks.jumpsProposed << " proposed, accepted " << walks.jumpAcceptance);
     CHECK(walks.jumpsProposed > 10000);
     CHECK(walks.jumpAcceptance > 0.1 * double(walks.jumpsProposed));
@@ -583,7 +582,7 @@ TEST_CASE("path-space chains under a directional light visit a tiny path space i
     // The half-vector mutation holds the direction and moves the glossy vertex across the beam.
     const auto stats = checkVisits(*scene, expected, {"bidirectional", "bidirectional,hslt:15"}, 2, Everywhere, Glossy,
                                    1, 0, 1, {"hslt"});
-    CHECK(stats[1].walks.converged > 10000);
+    CHECK(walksOf(stats, 1).converged > 10000);
 }
 
 TEST_CASE("path-space chains with the portal perturbation visit a tiny path space in proportion to f*",
@@ -860,7 +859,7 @@ TEST_CASE("path-space chains of a sun caustic through a mirror visit a tiny path
     CHECK(*hi > 1.5 * *lo);
     const auto stats = checkVisits(*scene, expected, {"bidirectional,caustic", "bidirectional,manifold"}, 3, Everywhere,
                                    mc.receiver, 2, 0, 0, {"caustic", "manifold"}, 1, 24576, true);
-    CHECK(stats[1].walks.converged > 10000); // the manifold perturbation walked the chain to the sun
+    CHECK(walksOf(stats, 1).converged > 10000); // the manifold perturbation walked the chain to the sun
 }
 
 namespace {
@@ -930,12 +929,12 @@ TEST_CASE("path-space chains of a sun caustic through a mirror sphere visit a ti
     CHECK(*hi > 1.5 * *lo);
     const auto stats = checkVisits(*scene, expected, {"bidirectional,caustic", "bidirectional,manifold"}, 3, Everywhere,
                                    mc.receiver, 2, 0, 0, {"caustic", "manifold"}, 1, 24576, true);
-    CHECK(stats[1].walks.converged > 10000);
+    CHECK(walksOf(stats, 1).converged > 10000);
     // The half-vector mutation: the sun's direction and the mirror's h = 0 held, the patch's half vector
     // drawn, all vertices walked at once (the curved mirror makes |det J| and g vary between states).
     const auto hslt = checkVisits(*scene, expected, {"bidirectional,hslt:4"}, 3, Everywhere, mc.receiver, 2, 0, 0,
                                   {"hslt"}, 1, 24576, true);
-    CHECK(hslt[1].walks.converged > 10000);
+    CHECK(walksOf(hslt, 1).converged > 10000);
 }
 
 namespace {
@@ -1075,6 +1074,6 @@ TEST_CASE("path-space chains through two glossy bounces visit a tiny path space 
         const auto stats = checkVisits(*scene, expected, {"bidirectional,hslt:15"}, 3, G1, G2, 2, 2, 1, {"hslt"});
         // Jumps of two interior vertices at once, projected from the eye (walks that leave a patch jump
         // onto the other or the light): about 30 % of the tried jumps are proposed.
-        CHECK(stats[1].walks.jumpsProposed > 10000);
+        CHECK(walksOf(stats, 1).jumpsProposed > 10000);
     }
 }

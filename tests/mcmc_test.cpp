@@ -12,7 +12,7 @@
 
 #include "manifold/chains_in_path.h"
 #include "math/constants.h"
-#include "math/error.h"
+#include "util/error.h"
 #include "mcmc/metropolis.h"
 #include "mcmc/mutations/bidirectional_mutation.h"
 #include "mcmc/mutations/caustic_perturbation.h"
@@ -339,7 +339,7 @@ TEST_CASE("bidirectional mutation: the density it samples with is the one T(x ->
         scene->camera = scene->camera.withResolution(32, 32);
         PathSettings b;
         b.maxDepth = 8;
-        const auto seeds = seedWithBdpt(*scene, b, 20000, name == "cornell-box" ? 50 : 5000, 1, 2, nullptr);
+        const auto seeds = seedWithBdpt(*scene, b, 20000, name == "cornell-box" ? 50 : 5000, 1, RunControl(2));
         const BidirectionalMutation bidir(*scene, 8);
         Pcg32 rng(3, 3);
         int checked = 0, specular = 0, off = 0, dropped = 0, sky = 0;
@@ -461,7 +461,7 @@ TEST_CASE("a seed path's f / p recomputed from scratch equals the BDPT contribut
         scene->camera = scene->camera.withResolution(32, 32);
         PathSettings b;
         b.maxDepth = 6;
-        const auto seeds = seedWithBdpt(*scene, b, 20000, 3000, 2, 2, nullptr);
+        const auto seeds = seedWithBdpt(*scene, b, 20000, 3000, 2, RunControl(2));
         const SensorWindow sensor(scene->camera);
         const double pixels = 32 * 32;
         int checked = 0, specular = 0, bad = 0, sky = 0;
@@ -512,7 +512,7 @@ TEST_CASE("a chain state's specular chains are the same from its vertices and fr
     auto scene = loadScene(test::shippedScene("cornell-spheres"), {{"res", "32"}});
     PathSettings b;
     b.maxDepth = 6;
-    const auto seeds = seedWithBdpt(*scene, b, 20000, 400, 3, 2, nullptr);
+    const auto seeds = seedWithBdpt(*scene, b, 20000, 400, 3, RunControl(2));
     size_t withChains = 0;
     for (size_t i = 0; i < seeds.paths.size(); ++i) {
         const auto x = stateOf(*scene, seeds.paths[i], i);

@@ -1,7 +1,7 @@
-// Checking an allocation against the memory available (libpath/math/memory_budget.h).
+// Checking an allocation against the memory available (libpath/util/memory_budget.h).
 #include <catch2/catch.hpp>
 
-#include "math/memory_budget.h"
+#include "util/memory_budget.h"
 #include "test_util.h"
 
 using namespace lt;

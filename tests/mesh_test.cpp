@@ -16,7 +16,7 @@
 #include <unistd.h>
 #include <vector>
 
-#include "math/error.h"
+#include "util/error.h"
 #include "test_util.h"
 #include "scene/mesh.h"
 

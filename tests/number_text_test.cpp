@@ -3,7 +3,7 @@
 
 #include <cmath>
 
-#include "math/number_text.h"
+#include "util/number_text.h"
 
 using lt::numberFromText;
 

@@ -258,7 +258,7 @@ TEST_CASE("portal perturbation on the shipped portal scenes: the density sampled
         const Vec3 nPortal = name == "portal-room" ? Vec3(0, 0, 1) : Vec3(1, 0, 0);
         PathSettings b;
         b.maxDepth = 5;
-        const auto seeds = seedWithBdpt(*scene, b, 30000, 3000, 1, 2, nullptr);
+        const auto seeds = seedWithBdpt(*scene, b, 30000, 3000, 1, RunControl(2));
         const ReciprocalKernel kernel{1.0 / 256, 1.0 / 16};
         const PortalPerturbation portal(*scene, kernel);
         Pcg32 rng(7, 7);

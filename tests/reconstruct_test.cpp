@@ -13,7 +13,7 @@
 #include <functional>
 #include <limits>
 
-#include "math/error.h"
+#include "util/error.h"
 #include "math/rng.h"
 #include "reconstruct/dct_poisson.h"
 #include "reconstruct/gradient_image.h"

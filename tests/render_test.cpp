@@ -41,16 +41,15 @@ PixelStats stats(const std::vector<float>& img, int width, int x0, int y0, int x
     return s;
 }
 
-std::vector<float> renderImage(const Scene& scene, PixelMethod method, int spp, PathSettings b, uint64_t seed = 1,
+std::vector<float> renderImage(const Scene& scene, test::PixelMethod method, int spp, PathSettings b, uint64_t seed = 1,
                                int threads = 2, SamplerKind sampler = SamplerKind::Independent) {
     SampleFilm film(scene.camera);
     RenderSettings rs;
     rs.paths = b;
     rs.spp = spp;
     rs.seed = seed;
-    rs.threads = threads;
     rs.sampler = sampler;
-    const RenderStats st = render(scene, *makePixelEstimator(method, scene, b), rs, film, {}, nullptr);
+    const RenderStats st = render(scene, *test::makePixelEstimator(method, scene, b), rs, film, RunControl(threads));
     REQUIRE(st.health.nonFinite == 0);
     return film.develop();
 }
@@ -58,7 +57,7 @@ std::vector<float> renderImage(const Scene& scene, PixelMethod method, int spp, 
 // Both pixel estimators on a scene of paths of at most two edges whose every pixel has the value `expected`
 // (a plane under one light): the image mean within 5 standard errors of the pixels, plus a known `bias`.
 void checkTwoEdgeImage(const Scene& scene, int size, int spp, double expected, double bias = 0) {
-    for (PixelMethod m : {PixelMethod::Bdpt, PixelMethod::PathTracing}) {
+    for (test::PixelMethod m : {test::PixelMethod::Bdpt, test::PixelMethod::PathTracing}) {
         CAPTURE(int(m));
         PathSettings b;
         b.maxDepth = 2;
@@ -81,7 +80,7 @@ TEST_CASE("furnace box: every pixel is Le * sum of rho^k for k < maxDepth", "[re
         for (int k = 0; k < depth; ++k) expected += std::pow(rho, k);
         PathSettings b;
         b.maxDepth = depth;
-        for (PixelMethod m : {PixelMethod::Bdpt, PixelMethod::PathTracing})
+        for (test::PixelMethod m : {test::PixelMethod::Bdpt, test::PixelMethod::PathTracing})
             for (SamplerKind sampler : {SamplerKind::Independent, SamplerKind::Sobol}) {
                 CAPTURE(int(m), int(sampler));
                 // Each pixel is an independent estimate under either sampler (the Sobol sampler's scrambles
@@ -105,7 +104,7 @@ TEST_CASE("furnace box: border pixels with wide filters at small scene scale", "
         const auto scene = loadScene(test::furnaceBox(dir, 0.5, 3, filter, 0.01));
         PathSettings b;
         b.maxDepth = 3;
-        const auto img = renderImage(*scene, PixelMethod::Bdpt, 32, b);
+        const auto img = renderImage(*scene, test::PixelMethod::Bdpt, 32, b);
         std::vector<float> border;
         for (int y = 0; y < 24; ++y)
             for (int x = 0; x < 24; ++x)
@@ -131,7 +130,7 @@ TEST_CASE("furnace box: each BDPT strategy alone is unbiased for its path length
             b.maxDepth = depth;
             b.onlyS = s;
             b.onlyT = t;
-            const auto img = renderImage(*scene, PixelMethod::Bdpt, 32, b);
+            const auto img = renderImage(*scene, test::PixelMethod::Bdpt, 32, b);
             const PixelStats st = stats(img, 24, 0, 0, 24, 24);
             const double expected = std::pow(rho, edges - 1);
             CHECK(std::abs(st.mean - expected) < 5 * st.stderr_ + 1e-6 * expected);
@@ -141,7 +140,7 @@ TEST_CASE("furnace box: each BDPT strategy alone is unbiased for its path length
 TEST_CASE("a convex diffuse sphere under a uniform environment has radiance albedo * L", "[render]") {
     test::TempDir dir;
     const auto scene = loadScene(test::skySphere(dir));
-    for (PixelMethod m : {PixelMethod::Bdpt, PixelMethod::PathTracing}) {
+    for (test::PixelMethod m : {test::PixelMethod::Bdpt, test::PixelMethod::PathTracing}) {
         CAPTURE(int(m));
         const auto img = renderImage(*scene, m, 16, PathSettings{});
         const PixelStats s = stats(img, 32, 12, 12, 20, 20);
@@ -165,7 +164,7 @@ TEST_CASE("a cut-out (mask) lets 1 - opacity of the sky through", "[render]") {
     <bsdf type="twosided"><bsdf type="diffuse"><rgb name="reflectance" value="0"/></bsdf></bsdf></bsdf></shape>
 <emitter type="constant"><rgb name="radiance" value="2"/></emitter>
 </scene>)"));
-    for (PixelMethod m : {PixelMethod::Bdpt, PixelMethod::PathTracing}) {
+    for (test::PixelMethod m : {test::PixelMethod::Bdpt, test::PixelMethod::PathTracing}) {
         CAPTURE(int(m));
         const int spp = 16;
         const auto img = renderImage(*scene, m, spp, PathSettings{});
@@ -183,8 +182,8 @@ TEST_CASE("rendering is bit-identical whatever the thread count", "[render]") {
     b.maxDepth = 4;
     for (SamplerKind sampler : {SamplerKind::Independent, SamplerKind::Sobol}) {
         CAPTURE(int(sampler));
-        const auto one = renderImage(*scene, PixelMethod::Bdpt, 4, b, 7, 1, sampler);
-        const auto two = renderImage(*scene, PixelMethod::Bdpt, 4, b, 7, 2, sampler);
+        const auto one = renderImage(*scene, test::PixelMethod::Bdpt, 4, b, 7, 1, sampler);
+        const auto two = renderImage(*scene, test::PixelMethod::Bdpt, 4, b, 7, 2, sampler);
         CHECK(one == two);
     }
 }
@@ -221,7 +220,7 @@ TEST_CASE("a diffuse plane under a point light: L = rho/pi I cos / d^2", "[rende
                 }
             expected[size_t(y * 24 + x)] = sum / 256;
         }
-    for (PixelMethod m : {PixelMethod::Bdpt, PixelMethod::PathTracing}) {
+    for (test::PixelMethod m : {test::PixelMethod::Bdpt, test::PixelMethod::PathTracing}) {
         CAPTURE(int(m));
         PathSettings b;
         b.maxDepth = 2;
@@ -322,7 +321,7 @@ TEST_CASE("a thin lens blurs an edge out of focus by its circle of confusion and
         for (double c : column)
             between += c > 0.21 && c < 0.79;
         CHECK(between == (focus == D ? 0 : 6));
-        for (PixelMethod m : {PixelMethod::Bdpt, PixelMethod::PathTracing}) {
+        for (test::PixelMethod m : {test::PixelMethod::Bdpt, test::PixelMethod::PathTracing}) {
             CAPTURE(int(m));
             PathSettings b;
             b.maxDepth = 2;
@@ -396,7 +395,7 @@ TEST_CASE("BDPT and path tracing agree on the public cornell-box", "[render]") {
     scene->camera = scene->camera.withResolution(36, 36);
     const int runs = 6;
     // Mean luminance of each of the 3 x 3 regions of the image, per independent run (seed).
-    auto regions = [&](PixelMethod m, uint64_t seed) {
+    auto regions = [&](test::PixelMethod m, uint64_t seed) {
         PathSettings b;
         b.maxDepth = scene->integrator.maxDepth;
         const auto img = renderImage(*scene, m, 8, b, seed);
@@ -411,8 +410,8 @@ TEST_CASE("BDPT and path tracing agree on the public cornell-box", "[render]") {
     };
     std::vector<std::vector<double>> bd, pt;
     for (int r = 0; r < runs; ++r) {
-        bd.push_back(regions(PixelMethod::Bdpt, 100 + uint64_t(r)));
-        pt.push_back(regions(PixelMethod::PathTracing, 200 + uint64_t(r)));
+        bd.push_back(regions(test::PixelMethod::Bdpt, 100 + uint64_t(r)));
+        pt.push_back(regions(test::PixelMethod::PathTracing, 200 + uint64_t(r)));
     }
     for (size_t k = 0; k < 9; ++k) {
         CAPTURE(k);
@@ -507,11 +506,10 @@ TEST_CASE("the render loop fills a pixel estimator's further planes, and the fil
     rs.spp = 3;
     rs.tileSize = 4; // a neighbour's values land in another tile
     SampleFilm plain(scene->camera);
-    CHECK(test::errorOf([&] { (void)render(*scene, ramp, rs, plain, {}, nullptr); }).find("planes") !=
-          std::string::npos);
+    CHECK(test::errorOf([&] { (void)render(*scene, ramp, rs, plain, {}); }).find("planes") != std::string::npos);
 
     SampleFilm film(scene->camera, ramp.planes());
-    (void)render(*scene, ramp, rs, film, {}, nullptr);
+    (void)render(*scene, ramp, rs, film, {});
     const file::Buffer b = film.toBuffer();
     CHECK(b.channels ==
           std::vector<std::string>{"primal.R", "primal.G", "primal.B", "dx.R", "dx.G", "dx.B", "dy.R", "dy.G", "dy.B",

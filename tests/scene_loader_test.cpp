@@ -8,7 +8,7 @@
 #include <filesystem>
 
 #include "math/constants.h"
-#include "math/error.h"
+#include "util/error.h"
 #include "scene/scene.h"
 #include "scene/scene_features.h"
 #include "test_util.h"

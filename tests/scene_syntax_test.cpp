@@ -6,7 +6,7 @@
 #include <cmath>
 
 #include "math/constants.h"
-#include "math/error.h"
+#include "util/error.h"
 #include "sampling/render.h"
 #include "scene/mitsuba3_syntax.h"
 #include "scene/scene.h"
@@ -88,8 +88,8 @@ std::vector<float> render(const Scene& scene, int spp) {
     rs.paths.rrDepth = scene.integrator.rrDepth;
     rs.spp = spp;
     rs.seed = 7;
-    rs.threads = 2;
-    (void)lt::render(scene, *makePixelEstimator(PixelMethod::Bdpt, scene, rs.paths), rs, film, {}, nullptr);
+    (void)lt::render(scene, *test::makePixelEstimator(test::PixelMethod::Bdpt, scene, rs.paths), rs, film,
+                     RunControl(2));
     return film.develop();
 }
 

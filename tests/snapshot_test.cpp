@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "image/error_metrics.h"
-#include "math/error.h"
+#include "util/error.h"
 #include "sampling/path_tracer.h"
 #include "sampling/render.h"
 #include "scene/scene.h"
@@ -51,11 +51,11 @@ TEST_CASE("snapshots: increasing times, and the last one equals the final image"
     rs.snapshots = SnapshotSchedule::parseSamples("1,2,4");
     std::vector<RunProgress> at;
     std::vector<std::vector<std::vector<float>>> images;
-    const RenderStats st = render(*scene, Bdpt(*scene, rs.paths), rs, film, {}, nullptr, nullptr,
-                                  [&](const RunProgress& p, const file::Buffer& image) {
+    const RenderStats st = render(*scene, Bdpt(*scene, rs.paths), rs, film,
+                                  RunControl(0, [&](const RunProgress& p, const file::Buffer& image) {
                                       at.push_back(p);
                                       images.push_back(image.planes);
-                                  });
+                                  }));
     REQUIRE(at.size() == 3);
     CHECK(st.snapshots == 3);
     for (size_t i = 1; i < at.size(); ++i) {
@@ -95,11 +95,11 @@ TEST_CASE("the error of path tracing falls as 1/samples: log-log slope near -1",
     rs.paths.maxDepth = 3;
     rs.snapshots = SnapshotSchedule::parseSamples("4,8,16,32,64,128,256");
     std::vector<double> logN, logE;
-    (void)render(*scene, PathTracer(*scene, rs.paths), rs, film, {}, nullptr, nullptr,
-                 [&](const RunProgress& p, const file::Buffer& image) {
+    (void)render(*scene, PathTracer(*scene, rs.paths), rs, film,
+                 RunControl(0, [&](const RunProgress& p, const file::Buffer& image) {
                      logN.push_back(std::log(double(p.passesDone)));
                      logE.push_back(std::log(reference.error(image, "render", ErrorOptions{}).value));
-                 });
+                 }));
     REQUIRE(logN.size() == 7);
     // Least-squares slope. Each relMSE is a mean over 576 pixels: relative spread ~ sqrt(2/576) = 6 %,
     // i.e. 0.06 in log; over a log range of ln(64) = 4.2 the slope's error is a few hundredths. 0.15

@@ -13,9 +13,20 @@
 
 #include <OpenImageIO/imageio.h>
 
-#include "math/error.h"
+#include "sampling/bdpt.h"
+#include "sampling/path_tracer.h"
+#include "util/error.h"
 
 namespace lt::test {
+
+// lt-seed's two pixel estimators, made with the path settings as given (MIS heuristic included), for tests that
+// render with both.
+enum class PixelMethod { Bdpt, PathTracing };
+inline std::unique_ptr<PixelEstimator> makePixelEstimator(PixelMethod method, const Scene& scene,
+                                                          const PathSettings& paths) {
+    if (method == PixelMethod::PathTracing) return std::make_unique<PathTracer>(scene, paths);
+    return std::make_unique<Bdpt>(scene, paths);
+}
 
 // A fresh directory under the system temp dir, removed with everything in it at scope exit.
 struct TempDir {

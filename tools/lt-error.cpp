@@ -22,7 +22,7 @@
 #include "image/buffer_source.h"
 #include "image/error_metrics.h"
 #include "image/image_io.h"
-#include "math/temp_output.h"
+#include "util/temp_output.h"
 
 extern char** environ;
 

@@ -1,67 +1,14 @@
 // lt-reconstruct: the last stage of gradient-domain rendering, a screened Poisson reconstruction (L2 or
 // L1) of an image from its noisy primal and noisy gradients, solved with Ceres, Eigen CG or the cosine
 // transform.
-#include <filesystem>
 #include <iostream>
-#include <optional>
-#include <sstream>
 #include <thread>
-#include <variant>
 
 #include "common/info.h"
 #include "common/interrupt.h"
 #include "common/progress.h"
 #include "common/tool.h"
-#include "formats/ltfile.h"
-#include "image/buffer_source.h"
-#include "image/image_io.h"
-#include "reconstruct/gradient_image.h"
-#include "reconstruct/screened_poisson.h"
-
-namespace {
-
-bool isExrName(const std::string& path) {
-    std::string ext = std::filesystem::path(path).extension().string();
-    for (auto& ch : ext)
-        ch = char(std::tolower(static_cast<unsigned char>(ch)));
-    return ext == ".exr";
-}
-
-nlohmann::json toJson(const lt::ReconstructStatistics& s) {
-    return {{"norm", s.norm},
-            {"alpha", s.alpha},
-            {"irls_iterations", s.irlsIterations},
-            {"solves", s.solves},
-            {"iterations", s.solverIterations},
-            {"linear_iterations", s.linearIterations},
-            {"initial_cost", s.initialCost},
-            {"final_cost", s.finalCost},
-            {"seconds", s.seconds},
-            {"solver", s.solver},
-            {"solver_reason", s.solverReason},
-            {"linear_residual", s.linearResidual}};
-}
-
-// The STAT table "reconstruct" (formats/SPEC.md): numbers only, so the norm is its exponent (1 or 2)
-// and the solver a code (1 Ceres sparse normal Cholesky, 2 Ceres CGNR, 3 Eigen CG, 4 DCT); INFO has them as
-// names.
-lt::file::StatTable toStatTable(const lt::ReconstructStatistics& s) {
-    return lt::file::valueTable("reconstruct", {{"norm", s.norm == "l1" ? 1.0 : 2.0},
-                                                {"alpha", s.alpha},
-                                                {"irls_iterations", double(s.irlsIterations)},
-                                                {"solves", double(s.solves)},
-                                                {"iterations", double(s.solverIterations)},
-                                                {"linear_iterations", double(s.linearIterations)},
-                                                {"initial_cost", s.initialCost},
-                                                {"final_cost", s.finalCost},
-                                                {"seconds", s.seconds},
-                                                {"solver", s.solverUsed == lt::PoissonSolver::Cgnr      ? 2.0
-                                                           : s.solverUsed == lt::PoissonSolver::EigenCg ? 3.0
-                                                           : s.solverUsed == lt::PoissonSolver::Cosine  ? 4.0
-                                                                                                        : 1.0}});
-}
-
-} // namespace
+#include "reconstruct/reconstruct_files.h"
 
 int main(int argc, char** argv) {
     CLI::App app{
@@ -81,17 +28,18 @@ int main(int argc, char** argv) {
         "lt buffer file to an lt buffer file every progress snapshot (lt-gradient --snapshots) is reconstructed\n"
         "too, its times increased by its reconstruction's, so lt-error measures reconstructed images against time.",
         "lt-reconstruct"};
-    std::string input, output, primalPath, dxPath, dyPath, directPath, normText = "l2", solverText = "auto";
+    lt::ReconstructInputs in;
+    std::string output, normText = "l2", solverText = "auto";
     lt::ReconstructSettings settings;
     int threads = 0;
     bool quiet = false;
-    app.add_option("IN", input, "buffer file (.lts, - for stdin) or multi-layer EXR with primal, dx, dy");
+    app.add_option("IN", in.input, "buffer file (.lts, - for stdin) or multi-layer EXR with primal, dx, dy");
     app.add_option("-o,--output", output, "reconstructed image: OUT.exr, or an lt buffer file (.lts, - for stdout)")
         ->required();
-    auto* primalOpt = app.add_option("--primal", primalPath, "primal image (EXR or buffer file) instead of IN");
-    auto* dxOpt = app.add_option("--dx", dxPath, "horizontal forward differences, with --primal");
-    auto* dyOpt = app.add_option("--dy", dyPath, "vertical forward differences, with --primal");
-    auto* directOpt = app.add_option("--direct", directPath, "directly visible emitters, added after the solve");
+    auto* primalOpt = app.add_option("--primal", in.primal, "primal image (EXR or buffer file) instead of IN");
+    auto* dxOpt = app.add_option("--dx", in.dx, "horizontal forward differences, with --primal");
+    auto* dyOpt = app.add_option("--dy", in.dy, "vertical forward differences, with --primal");
+    auto* directOpt = app.add_option("--direct", in.direct, "directly visible emitters, added after the solve");
     primalOpt->needs(dxOpt, dyOpt);
     dxOpt->needs(primalOpt);
     dyOpt->needs(primalOpt);
@@ -126,9 +74,6 @@ int main(int argc, char** argv) {
         ->check(lt::tool::ThreadCount);
     app.add_flag("-q,--quiet", quiet, "no progress or statistics output");
     return lt::tool::run(app, argc, argv, [&] {
-        if (input.empty() == primalPath.empty())
-            throw lt::Error(input.empty() ? "no input: give IN, or --primal, --dx and --dy"
-                                          : "give either IN or --primal, --dx and --dy, not both");
         settings.norm = normText == "l1" ? lt::ReconstructNorm::L1 : lt::ReconstructNorm::L2;
         settings.solver = solverText == "cholesky"   ? lt::PoissonSolver::SparseNormalCholesky
                           : solverText == "cgnr"     ? lt::PoissonSolver::Cgnr
@@ -136,113 +81,35 @@ int main(int argc, char** argv) {
                           : solverText == "dct"      ? lt::PoissonSolver::Cosine
                                                      : lt::PoissonSolver::Auto;
         settings.threads = threads > 0 ? threads : int(std::max(1u, std::thread::hardware_concurrency()));
-
+        const nlohmann::json info = lt::tool::makeInfo("lt-reconstruct", argc, argv,
+                                                       {{"norm", normText},
+                                                        {"alpha", settings.alpha},
+                                                        {"iterations", settings.irlsIterations},
+                                                        {"irls_reg", settings.irlsRegularizer},
+                                                        {"irls_decay", settings.irlsDecay},
+                                                        {"max_solver_iterations", settings.maxLinearIterations},
+                                                        {"solver", solverText},
+                                                        {"threads", settings.threads}},
+                                                       nullptr);
+        // Ctrl-C or SIGTERM cuts a streamed input short and keeps its newest buffer (exit 130 or 143); a single
+        // image has nothing to cut: a signal kills as usual.
+        if (lt::streamsInput(in, output)) lt::tool::installInterruptHandler();
         lt::tool::Progress progress("lt-reconstruct", quiet);
-        lt::ReconstructStatistics stats;
-        auto solve = [&](const lt::GradientImage& image) {
-            return lt::reconstructScreenedPoisson(image, settings, stats, [&](int done, int total) {
+        const lt::ReconstructOutcome out = lt::reconstructFiles(
+            in, output, settings, info,
+            [&](int done, int total) {
                 progress.update(double(done) / total,
                                 std::to_string(done) + " of " + std::to_string(total) + " linear solves");
-            });
-        };
-        nlohmann::json info = lt::tool::makeInfo("lt-reconstruct", argc, argv,
-                                                 {{"norm", normText},
-                                                  {"alpha", settings.alpha},
-                                                  {"iterations", settings.irlsIterations},
-                                                  {"irls_reg", settings.irlsRegularizer},
-                                                  {"irls_decay", settings.irlsDecay},
-                                                  {"max_solver_iterations", settings.maxLinearIterations},
-                                                  {"solver", solverText},
-                                                  {"threads", settings.threads}},
-                                                 nullptr);
-        uint32_t width = 0, height = 0;
-        bool cut = false; // a signal stopped the stream early
-        if (!input.empty() && (input == "-" || !lt::isExrFile(input)) && !isExrName(output)) {
-            // An lt buffer file into an lt buffer file: streamed, every snapshot reconstructed on the way.
-            lt::file::Reader reader(input, lt::file::FileKind::Buffer);
-            info["input"] = reader.name();
-            if (reader.info().is_object() && reader.info().contains("scene")) info["scene"] = reader.info()["scene"];
-            lt::file::Writer writer(output, lt::file::FileKind::Buffer, info);
-            std::optional<lt::file::Buffer> last, lastSnapshot;
-            size_t snapshots = 0;
-            // Ctrl-C or SIGTERM while the stream comes in: the solve under way finishes, the stream is left
-            // (its producer gets a broken pipe), the newest buffer read is reconstructed and the file is
-            // complete (exit 130 or 143). A single image has nothing to cut: a signal kills as usual.
-            lt::tool::installInterruptHandler();
-            for (;;) {
-                if (lt::tool::stopRequested()) {
-                    cut = true;
-                    break;
-                }
-                lt::file::Chunk chunk = reader.next();
-                if (std::holds_alternative<lt::file::End>(chunk)) break;
-                if (auto* b = std::get_if<lt::file::Buffer>(&chunk)) last = std::move(*b);
-                if (auto* snap = std::get_if<lt::file::Snapshot>(&chunk)) {
-                    ++snapshots;
-                    const lt::GradientImage image = lt::gradientImageFromBuffer(
-                        snap->buffer, reader.name() + " (snapshot " + std::to_string(snapshots) + ")");
-                    lt::file::Snapshot out = *snap;
-                    out.buffer = solve(image);
-                    // The image of this snapshot cost its render time and this reconstruction.
-                    out.wallSeconds += stats.seconds;
-                    out.cpuSeconds += stats.seconds;
-                    writer.writeSnapshot(out);
-                    lastSnapshot = std::move(snap->buffer);
-                }
-            }
-            if (!last && !lastSnapshot) throw lt::Error(reader.name() + ": holds no buffer (no BUFR or SNAP chunk)");
-            const lt::GradientImage image = lt::gradientImageFromBuffer(last ? *last : *lastSnapshot, reader.name());
-            width = image.width;
-            height = image.height;
-            writer.writeBuffer(solve(image));
-            writer.writeStats(toStatTable(stats));
-            writer.finish();
-        } else {
-            lt::GradientImage image;
-            if (!input.empty()) {
-                lt::BufferSource source = lt::loadBuffer(input);
-                image = lt::gradientImageFromBuffer(source.buffer, source.name);
-                info["input"] = source.name;
-                if (source.info.is_object() && source.info.contains("scene")) info["scene"] = source.info["scene"];
-            } else {
-                const lt::BufferSource p = lt::loadBuffer(primalPath), dx = lt::loadBuffer(dxPath),
-                                       dy = lt::loadBuffer(dyPath);
-                std::optional<lt::BufferSource> direct;
-                if (!directPath.empty()) direct = lt::loadBuffer(directPath);
-                image = lt::gradientImageFromLayers(
-                    {&p.buffer, p.name}, {&dx.buffer, dx.name}, {&dy.buffer, dy.name},
-                    direct ? std::optional<lt::LayerSource>({&direct->buffer, direct->name}) : std::nullopt);
-                info["input"] = p.name;
-            }
-            width = image.width;
-            height = image.height;
-            const lt::file::Buffer result = solve(image);
-            info["reconstruct"] = toJson(stats);
-            if (isExrName(output)) {
-                lt::writeExr(output, result, info);
-            } else {
-                lt::file::Writer writer(output, lt::file::FileKind::Buffer, info);
-                writer.writeBuffer(result);
-                writer.writeStats(toStatTable(stats));
-                writer.finish();
-            }
-        }
+            },
+            &lt::tool::stopRequested());
         progress.finish();
-        if (cut && !quiet)
-            std::cerr
-                << "lt-reconstruct: interrupted: the input's rest was not read; reconstructed its newest buffer\n";
         if (!quiet) {
-            std::ostringstream residual; // the accuracy of Eigen CG or DCT, which measure it
-            if (stats.solverUsed == lt::PoissonSolver::EigenCg || stats.solverUsed == lt::PoissonSolver::Cosine)
-                residual << ", relative residual <= " << stats.linearResidual;
-            std::cerr << "lt-reconstruct: " << stats.norm << ", alpha " << stats.alpha << ", " << width << "x" << height
-                      << ": " << (stats.irlsIterations ? std::to_string(stats.irlsIterations) + " IRLS steps, " : "")
-                      << stats.solves << " solves with " << stats.solver << " (" << stats.solverReason << "), "
-                      << stats.solverIterations << " iterations, " << stats.linearIterations
-                      << " linear solver iterations" << residual.str() << "; cost " << stats.initialCost << " -> "
-                      << stats.finalCost << "; " << stats.seconds << " s; wrote "
+            if (out.interrupted)
+                std::cerr << "lt-reconstruct: interrupted: the input's rest was not read; reconstructed its newest "
+                             "buffer\n";
+            std::cerr << "lt-reconstruct: " << lt::reconstructSummary(out) << "; wrote "
                       << (output == "-" ? std::string("<stdout>") : output) << '\n';
         }
-        return cut ? lt::tool::interruptedExitCode() : 0;
+        return out.interrupted ? lt::tool::interruptedExitCode() : 0;
     });
 }

@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "bsdf/delta_lobe_sum.h"
-#include "math/error.h"
+#include "util/error.h"
 
 namespace lt {
 

@@ -1,6 +1,6 @@
 #include "bsdf/bump_mapped.h"
 
-#include "math/error.h"
+#include "util/error.h"
 
 namespace lt {
 

@@ -1,7 +1,7 @@
 #include "bsdf/conductor.h"
 
 #include "bsdf/fresnel.h"
-#include "math/error.h"
+#include "util/error.h"
 
 namespace lt {
 

@@ -4,7 +4,7 @@
 
 #include <memory>
 
-#include "bsdf/bsdf.h"
+#include "bsdf/delta_bsdf.h"
 #include "bsdf/conductor_presets.h"
 #include "texture/texture.h"
 
@@ -18,18 +18,15 @@ struct ConductorParams {
     std::shared_ptr<const Texture> specularReflectance = std::make_shared<ConstantTexture>(Spectrum(1.0));
 };
 
-class Conductor final : public Bsdf {
+class Conductor final : public DeltaBsdf {
 public:
     explicit Conductor(ConductorParams params);
 
-    [[nodiscard]] Spectrum eval(const Vec3&, const Vec3&, const Vec2&, Transport) const override { return {}; }
-    [[nodiscard]] double pdf(const Vec3&, const Vec3&, const Vec2&) const override { return 0; }
     [[nodiscard]] std::optional<BsdfSample> sample(const Vec3& wi, const Vec2& uv, Transport mode, double uLobe,
                                                    const Vec2& u) const override;
     [[nodiscard]] std::optional<BsdfSample> deltaEval(const Vec3& wi, const Vec3& wo, const Vec2& uv,
                                                       Transport mode) const override;
     [[nodiscard]] Lobes lobes() const override { return LobeDelta | LobeReflection; }
-    [[nodiscard]] double roughness(const Vec2&) const override { return 0; }
     [[nodiscard]] std::string typeName() const override { return "conductor"; }
 
 private:

@@ -5,15 +5,11 @@
 #include "bsdf/fresnel.h"
 #include "bsdf/half_vector.h"
 #include "bsdf/ior_presets.h"
-#include "math/error.h"
+#include "util/error.h"
 
 namespace lt {
 
-Dielectric::Dielectric(DielectricParams params) : p_(std::move(params)) {
-    checkIorPair("dielectric", p_.intIOR, p_.extIOR);
-    if (!p_.specularReflectance || !p_.specularTransmittance) throw Error("dielectric: null texture");
-    eta_ = p_.intIOR / p_.extIOR;
-}
+Dielectric::Dielectric(DielectricParams params) : p_(std::move(params)), eta_(p_.relativeEta("dielectric")) {}
 
 std::optional<BsdfSample> Dielectric::lobeSample(const Vec3& wi, const Vec2& uv, Transport mode, bool reflect) const {
     if (wi.z == 0) return std::nullopt;

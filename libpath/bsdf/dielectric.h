@@ -3,34 +3,21 @@
 // factor cancels from the weights). The interior lies below the shading normal.
 #pragma once
 
-#include <memory>
-
-#include "bsdf/bsdf.h"
-#include "texture/texture.h"
+#include "bsdf/delta_bsdf.h"
+#include "bsdf/dielectric_params.h"
 
 namespace lt {
 
-// Indices are numbers here; names ("bk7", "air", ...) are resolved with lookupIor (bsdf/ior_presets.h).
-struct DielectricParams {
-    double intIOR = 1.5046;   // Mitsuba default "bk7"
-    double extIOR = 1.000277; // Mitsuba default "air"
-    std::shared_ptr<const Texture> specularReflectance = std::make_shared<ConstantTexture>(Spectrum(1.0));
-    std::shared_ptr<const Texture> specularTransmittance = std::make_shared<ConstantTexture>(Spectrum(1.0));
-};
-
-class Dielectric final : public Bsdf {
+class Dielectric final : public DeltaBsdf {
 public:
     // Throws lt::Error for a non-positive or non-finite index or a null texture.
     explicit Dielectric(DielectricParams params);
 
-    [[nodiscard]] Spectrum eval(const Vec3&, const Vec3&, const Vec2&, Transport) const override { return {}; }
-    [[nodiscard]] double pdf(const Vec3&, const Vec3&, const Vec2&) const override { return 0; }
     [[nodiscard]] std::optional<BsdfSample> sample(const Vec3& wi, const Vec2& uv, Transport mode, double uLobe,
                                                    const Vec2& u) const override;
     [[nodiscard]] std::optional<BsdfSample> deltaEval(const Vec3& wi, const Vec3& wo, const Vec2& uv,
                                                       Transport mode) const override;
     [[nodiscard]] Lobes lobes() const override { return LobeDelta | LobeReflection | LobeTransmission; }
-    [[nodiscard]] double roughness(const Vec2&) const override { return 0; }
     [[nodiscard]] std::optional<InterfaceEta> eta() const override { return InterfaceEta{p_.intIOR, p_.extIOR}; }
     [[nodiscard]] std::string typeName() const override { return "dielectric"; }
 

@@ -2,7 +2,7 @@
 
 #include <limits>
 
-#include "math/error.h"
+#include "util/error.h"
 #include "math/frame.h"
 #include "math/warp.h"
 

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <utility>
 
-#include "math/error.h"
+#include "util/error.h"
 
 namespace lt {
 

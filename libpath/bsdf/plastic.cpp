@@ -3,7 +3,7 @@
 #include "bsdf/fresnel.h"
 #include "bsdf/ior_presets.h"
 #include "math/constants.h"
-#include "math/error.h"
+#include "util/error.h"
 #include "math/warp.h"
 
 namespace lt {

@@ -3,7 +3,7 @@
 #include "bsdf/conductor.h"
 #include "bsdf/fresnel.h"
 #include "bsdf/half_vector.h"
-#include "math/error.h"
+#include "util/error.h"
 
 namespace lt {
 

@@ -6,19 +6,17 @@
 #include <memory>
 
 #include "bsdf/bsdf.h"
+#include "bsdf/conductor.h"
 #include "bsdf/conductor_presets.h"
 #include "bsdf/microfacet.h"
 #include "texture/texture.h"
 
 namespace lt {
 
-struct RoughConductorParams {
+// The smooth conductor's parameters, and its microfacets'.
+struct RoughConductorParams : ConductorParams {
     MicrofacetType distribution = MicrofacetType::Beckmann; // Mitsuba default "beckmann"
-    double alphaU = 0.1, alphaV = 0.1;                       // Mitsuba default alpha 0.1; `alpha` sets both
-    Spectrum eta = lookupConductor("Cu")->eta;               // Mitsuba default material "Cu"
-    Spectrum k = lookupConductor("Cu")->k;
-    double extEta = 1.000277;                                // Mitsuba default "air"
-    std::shared_ptr<const Texture> specularReflectance = std::make_shared<ConstantTexture>(Spectrum(1.0));
+    double alphaU = 0.1, alphaV = 0.1;                      // Mitsuba default alpha 0.1; `alpha` sets both
 };
 
 class RoughConductor final : public Bsdf {

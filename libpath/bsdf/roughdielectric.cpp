@@ -5,18 +5,15 @@
 #include "bsdf/fresnel.h"
 #include "bsdf/half_vector.h"
 #include "bsdf/ior_presets.h"
-#include "math/error.h"
+#include "util/error.h"
 #include "math/numeric.h"
 
 namespace lt {
 
 RoughDielectric::RoughDielectric(RoughDielectricParams params)
-    : p_(std::move(params)), distr_(p_.distribution, p_.alphaU, p_.alphaV) {
-    checkIorPair("roughdielectric", p_.intIOR, p_.extIOR);
+    : p_(std::move(params)), distr_(p_.distribution, p_.alphaU, p_.alphaV), eta_(p_.relativeEta("roughdielectric")) {
     if (!(p_.alphaU > 0) || !(p_.alphaV > 0) || !std::isfinite(p_.alphaU) || !std::isfinite(p_.alphaV))
         throw Error("roughdielectric: alpha must be positive and finite");
-    if (!p_.specularReflectance || !p_.specularTransmittance) throw Error("roughdielectric: null texture");
-    eta_ = p_.intIOR / p_.extIOR;
 }
 
 Spectrum RoughDielectric::eval(const Vec3& wi, const Vec3& wo, const Vec2& uv, Transport mode) const {

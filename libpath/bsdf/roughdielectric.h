@@ -9,21 +9,16 @@
 // (Walter Eq. 21; the adjoint of Veach thesis 5.2, the factor Mitsuba 0.5 adds for bidirectional use).
 #pragma once
 
-#include <memory>
-
 #include "bsdf/bsdf.h"
+#include "bsdf/dielectric_params.h"
 #include "bsdf/microfacet.h"
-#include "texture/texture.h"
 
 namespace lt {
 
-struct RoughDielectricParams {
+// The interface's parameters, and its microfacets'.
+struct RoughDielectricParams : DielectricParams {
     MicrofacetType distribution = MicrofacetType::Beckmann; // Mitsuba default "beckmann"
-    double alphaU = 0.1, alphaV = 0.1;                       // Mitsuba default alpha 0.1; `alpha` sets both
-    double intIOR = 1.5046;                                  // Mitsuba default "bk7"
-    double extIOR = 1.000277;                                // Mitsuba default "air"
-    std::shared_ptr<const Texture> specularReflectance = std::make_shared<ConstantTexture>(Spectrum(1.0));
-    std::shared_ptr<const Texture> specularTransmittance = std::make_shared<ConstantTexture>(Spectrum(1.0));
+    double alphaU = 0.1, alphaV = 0.1;                      // Mitsuba default alpha 0.1; `alpha` sets both
 };
 
 class RoughDielectric final : public Bsdf {

@@ -8,7 +8,7 @@
 #include "bsdf/half_vector.h"
 #include "bsdf/ior_presets.h"
 #include "math/constants.h"
-#include "math/error.h"
+#include "util/error.h"
 #include "math/numeric.h"
 #include "math/warp.h"
 

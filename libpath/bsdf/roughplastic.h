@@ -21,18 +21,15 @@
 
 #include "bsdf/bsdf.h"
 #include "bsdf/microfacet.h"
+#include "bsdf/plastic.h"
 #include "texture/texture.h"
 
 namespace lt {
 
-struct RoughPlasticParams {
+// The smooth plastic's parameters, and its microfacets'.
+struct RoughPlasticParams : PlasticParams {
     MicrofacetType distribution = MicrofacetType::Beckmann; // Mitsuba default "beckmann"
-    double alpha = 0.1;                                      // Mitsuba default
-    double intIOR = 1.49;                                    // Mitsuba default "polypropylene"
-    double extIOR = 1.000277;                                // Mitsuba default "air"
-    std::shared_ptr<const Texture> specularReflectance = std::make_shared<ConstantTexture>(Spectrum(1.0));
-    std::shared_ptr<const Texture> diffuseReflectance = std::make_shared<ConstantTexture>(Spectrum(0.5));
-    bool nonlinear = false;
+    double alpha = 0.1;                                     // Mitsuba default
 };
 
 class RoughPlastic final : public Bsdf {

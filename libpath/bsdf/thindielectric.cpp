@@ -4,16 +4,13 @@
 
 #include "bsdf/fresnel.h"
 #include "bsdf/ior_presets.h"
-#include "math/error.h"
+#include "util/error.h"
 #include "math/numeric.h"
 
 namespace lt {
 
-ThinDielectric::ThinDielectric(ThinDielectricParams params) : p_(std::move(params)) {
-    checkIorPair("thindielectric", p_.intIOR, p_.extIOR);
-    if (!p_.specularReflectance || !p_.specularTransmittance) throw Error("thindielectric: null texture");
-    eta_ = p_.intIOR / p_.extIOR;
-}
+ThinDielectric::ThinDielectric(DielectricParams params)
+    : p_(std::move(params)), eta_(p_.relativeEta("thindielectric")) {}
 
 double ThinDielectric::slabReflectance(const Vec3& wi) const {
     const double R = fresnelDielectric(std::abs(wi.z), eta_);

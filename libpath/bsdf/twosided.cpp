@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "math/error.h"
+#include "util/error.h"
 
 namespace lt {
 

@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "math/constants.h"
-#include "math/error.h"
+#include "util/error.h"
 #include "math/frame.h"
 
 namespace lt {

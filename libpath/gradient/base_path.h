@@ -1,9 +1,9 @@
 // The base path of the gradient-domain estimators: a path traced from the camera with next-event
 // estimation, stored vertex by vertex with every sampling decision, so that the shift mapping
 // (gradient/shift_mapping.h) can move it to other pixels afterwards (Kettunen et al. 2015, Sec. 5;
-// [GDPR] Sec. 3.3: "store the whole base path"). It samples exactly what the path tracer does
-// (sampling/path_tracer.h): a light sample at every vertex with a non-delta lobe, a BSDF sample to go on,
-// Russian roulette from the throughput after rrDepth edges.
+// [GDPR] Sec. 3.3: "store the whole base path"). It is the path tracer's own walk (sampling/camera_walk.h), so it
+// samples exactly what the path tracer does: a light sample at every vertex with a non-delta lobe, a BSDF sample
+// to go on, Russian roulette from the throughput after rrDepth edges.
 //
 // Measure: the raster position, then the solid angle of every direction leaving a vertex (Kettunen et al.
 // 2015, Sec. 5.2 work in the same one). The camera's importance over its sampling density is 1 (the film
@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "bsdf/shading_correction.h"
+#include "sampling/camera_walk.h"
 #include "sampling/path_settings.h"
 #include "sampling/sample_generator.h"
 #include "scene/interaction.h"
@@ -29,9 +30,6 @@ class Scene;
 // 0.001 as in the public G-PT code). The same function classifies base and offset vertices, so the shift
 // makes the same decision in both directions.
 [[nodiscard]] bool connectableLobe(const Bsdf& bsdf, const Vec2& uv, bool deltaLobe, double threshold);
-
-// Whether a BSDF does next-event estimation (has a non-delta lobe), as the path tracer decides.
-[[nodiscard]] inline bool samplesLights(const Bsdf& bsdf) { return bsdf.hasDiffuse() || bsdf.hasGlossy(); }
 
 // All non-delta environment emitters as one light: choosing one of them for a light sample and then a
 // direction from it draws the direction from their mixture (density: the sum of pmf x pdf), and a direction

@@ -1,6 +1,6 @@
 #include "gradient/gradient_path_tracer.h"
 
-#include "math/error.h"
+#include "util/error.h"
 #include "sampling/lens_sample.h"
 #include "scene/scene.h"
 
@@ -14,8 +14,7 @@ enum Plane { Dx = 0, Dy = 1, Direct = 2 };
 
 GradientPathTracer::GradientPathTracer(const Scene& scene, GradientSettings settings)
     : scene_(scene), settings_(settings), window_(cropWindow(scene.camera.film())) {
-    if (settings_.paths.maxDepth == 0 || settings_.paths.maxDepth < -1)
-        throw Error("maxDepth must be -1 (unbounded) or at least 1");
+    settings_.paths.check();
 }
 
 Spectrum GradientPathTracer::estimate(const Vec2& raster, SampleGenerator& sampler, PixelSample& out) const {
@@ -27,9 +26,8 @@ Spectrum GradientPathTracer::estimate(const Vec2& raster, SampleGenerator& sampl
     const std::vector<EndingTerm> own = baseEndingTerms(scene_, base);
     std::vector<EndingTerm> shifted;
     Spectrum primal;
-    static constexpr int offsets[4][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
     std::vector<PlaneValue> values;
-    for (const auto& o : offsets) {
+    for (const auto& o : NeighbourOffsets) {
         const int nx = out.x + o[0], ny = out.y + o[1];
         std::vector<Spectrum> share(2);
         if (!window_.contains(nx, ny)) {
@@ -61,5 +59,15 @@ Spectrum GradientPathTracer::estimate(const Vec2& raster, SampleGenerator& sampl
     out.planes.push_back({Direct, 0, 0, base.direct});
     return primal * 0.25;
 }
+
+const EstimatorKind GradientPathTracer::Kind{
+    "gpt",
+    "gradient-domain path tracing: every base path shifted to its four neighbours",
+    {shiftThresholdOption()},
+    gradientRecord(),
+    [](const Scene& scene, const PathSettings& paths, const OptionValues& values) -> std::unique_ptr<PixelEstimator> {
+        return std::make_unique<GradientPathTracer>(scene, gradientSettings(paths, values));
+    },
+    {}};
 
 } // namespace lt

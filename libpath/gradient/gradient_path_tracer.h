@@ -9,6 +9,7 @@
 
 #include "gradient/gradient_settings.h"
 #include "image/film.h"
+#include "sampling/estimator_kind.h"
 #include "sampling/pixel_estimator.h"
 
 namespace lt {
@@ -17,12 +18,17 @@ class Scene;
 
 class GradientPathTracer final : public PixelEstimator {
 public:
+    // Its row of the estimator registry (run/estimator_registry.h).
+    static const EstimatorKind Kind;
+
     GradientPathTracer(const Scene& scene, GradientSettings settings);
     [[nodiscard]] Spectrum estimate(const Vec2& raster, SampleGenerator& sampler, PixelSample& out) const override;
     [[nodiscard]] bool tracesLightPaths() const override { return false; }
     [[nodiscard]] std::vector<std::string> planes() const override { return {"dx", "dy", "direct"}; }
     [[nodiscard]] bool creditsNeighbours() const override { return true; }
-    [[nodiscard]] const ShiftStatistics& statistics() const { return stats_; }
+    [[nodiscard]] const ShiftStatistics& shifts() const { return stats_; }
+    [[nodiscard]] std::vector<file::StatTable> statistics() const override { return {stats_.table()}; }
+    [[nodiscard]] std::string summary() const override { return stats_.summary(false); }
 
 private:
     const Scene& scene_;

@@ -9,6 +9,7 @@
 #include "formats/records.h"
 #include "gradient/shift_mapping.h"
 #include "sampling/path_settings.h"
+#include "util/option_spec.h"
 
 namespace lt {
 
@@ -19,6 +20,15 @@ struct GradientSettings {
     double rrDelta = 0.1;          // path reusing: base paths survive with min(1, max(rrMin, lum / rrDelta))
     double rrMin = 0.1;
 };
+
+// The options of the gradient-domain estimators: the shift's threshold (both), path reusing's tile and Russian
+// roulette (gdpr).
+[[nodiscard]] OptionSpec shiftThresholdOption();
+[[nodiscard]] std::vector<OptionSpec> pathReusingOptions();
+// The settings of their values (those not given keep GradientSettings' defaults).
+[[nodiscard]] GradientSettings gradientSettings(const PathSettings& paths, const OptionValues& values);
+// What the gradient-domain estimators record of how they weigh their samples.
+[[nodiscard]] nlohmann::json gradientRecord();
 
 // What the shifts did, counted across threads (sums do not depend on the order).
 struct ShiftStatistics {
@@ -33,6 +43,9 @@ struct ShiftStatistics {
     // reconnect_depth_9+,
     // rr_tested and rr_survived.
     [[nodiscard]] file::StatTable table() const;
+    // "N shifts: x% reconnected, y% mismatched, z% occluded", and with `roulette` the share of base paths that
+    // survived Russian roulette.
+    [[nodiscard]] std::string summary(bool roulette) const;
 };
 
 } // namespace lt

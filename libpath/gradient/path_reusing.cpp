@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "math/error.h"
+#include "util/error.h"
 #include "math/rng.h"
 #include "sampling/lens_sample.h"
 #include "sampling/render.h"
@@ -18,8 +18,7 @@ enum Plane { Dx = 0, Dy = 1, Direct = 2 };
 
 PathReusing::PathReusing(const Scene& scene, GradientSettings settings)
     : scene_(scene), settings_(settings), window_(cropWindow(scene.camera.film())), filter_(scene.camera.film().filter) {
-    if (settings_.paths.maxDepth == 0 || settings_.paths.maxDepth < -1)
-        throw Error("maxDepth must be -1 (unbounded) or at least 1");
+    settings_.paths.check();
     if (settings_.tile < 1) throw Error("the tile size must be at least 1");
     if (!(settings_.rrDelta > 0) || !(settings_.rrMin >= 0 && settings_.rrMin <= 1))
         throw Error("Russian roulette needs delta > 0 and 0 <= q_min <= 1");
@@ -121,5 +120,30 @@ void PathReusing::estimateTile(const TileSample& tile) const {
                 ++tile.health.nonFinite;
         }
 }
+
+namespace {
+
+std::vector<OptionSpec> options() {
+    std::vector<OptionSpec> o = {shiftThresholdOption()};
+    for (auto& spec : pathReusingOptions())
+        o.push_back(std::move(spec));
+    return o;
+}
+
+} // namespace
+
+const EstimatorKind PathReusing::Kind{
+    "gdpr",
+    "gradient-domain path reusing: every base path reused by all pixels of its tile",
+    options(),
+    gradientRecord(),
+    [](const Scene& scene, const PathSettings& paths, const OptionValues& values) -> std::unique_ptr<PixelEstimator> {
+        return std::make_unique<PathReusing>(scene, gradientSettings(paths, values));
+    },
+    [](const OptionValues& values) {
+        return values.number("rr_min") == 0 ? std::string("--rr-min 0 is biased (base paths that carry nothing never "
+                                                          "survive, though their shifts to other pixels would)")
+                                            : std::string();
+    }};
 
 } // namespace lt

@@ -15,6 +15,7 @@
 
 #include "gradient/gradient_settings.h"
 #include "image/filter_density.h"
+#include "sampling/estimator_kind.h"
 #include "sampling/pixel_estimator.h"
 
 namespace lt {
@@ -33,6 +34,9 @@ class Scene;
 
 class PathReusing final : public PixelEstimator {
 public:
+    // Its row of the estimator registry (run/estimator_registry.h).
+    static const EstimatorKind Kind;
+
     PathReusing(const Scene& scene, GradientSettings settings);
     // Not used: the loop calls estimateTile (reuseTileSize() > 0).
     [[nodiscard]] Spectrum estimate(const Vec2& raster, SampleGenerator& sampler, PixelSample& out) const override;
@@ -40,7 +44,9 @@ public:
     [[nodiscard]] std::vector<std::string> planes() const override { return {"dx", "dy", "direct"}; }
     [[nodiscard]] int reuseTileSize() const override { return settings_.tile; }
     void estimateTile(const TileSample& tile) const override;
-    [[nodiscard]] const ShiftStatistics& statistics() const { return stats_; }
+    [[nodiscard]] const ShiftStatistics& shifts() const { return stats_; }
+    [[nodiscard]] std::vector<file::StatTable> statistics() const override { return {stats_.table()}; }
+    [[nodiscard]] std::string summary() const override { return stats_.summary(true); }
 
 private:
     const Scene& scene_;

@@ -25,11 +25,15 @@
 // over the techniques that can ([GDPR] Sec. 3.1); tests/gradient_test.cpp T-GR-2 and T-GR-3 check it.
 #pragma once
 
+#include <array>
 #include <vector>
 
 #include "gradient/base_path.h"
 
 namespace lt {
+
+// The four neighbours a path is shifted to by G-PT and gradient-domain MLT, in this order: +x, -x, +y, -y.
+inline constexpr std::array<std::array<int, 2>, 4> NeighbourOffsets{{{1, 0}, {-1, 0}, {0, 1}, {0, -1}}};
 
 // One ending of a base path, for one pixel: the path's value in that pixel (shifted there, times the
 // Jacobian) and its technique density (light sample + BSDF sample, times the Jacobian), both divided by

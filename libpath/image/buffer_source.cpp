@@ -5,7 +5,7 @@
 
 #include "formats/ltfile.h"
 #include "image/image_io.h"
-#include "math/error.h"
+#include "util/error.h"
 
 namespace lt {
 

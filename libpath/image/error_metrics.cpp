@@ -11,7 +11,7 @@
 #include "formats/ltfile.h"
 #include "image/buffer_source.h"
 #include "image/image_io.h"
-#include "math/error.h"
+#include "util/error.h"
 
 namespace lt {
 

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <limits>
 
-#include "math/memory_budget.h"
+#include "util/memory_budget.h"
 
 namespace lt {
 

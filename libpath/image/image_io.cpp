@@ -20,9 +20,9 @@
 #include <set>
 #include <tuple>
 
-#include "math/error.h"
-#include "math/one_line.h"
-#include "math/temp_output.h"
+#include "util/error.h"
+#include "util/one_line.h"
+#include "util/temp_output.h"
 #include "texture/exr_header.h"
 
 namespace lt {

@@ -2,8 +2,8 @@
 
 #include <cmath>
 
-#include "math/error.h"
-#include "math/number_text.h"
+#include "util/error.h"
+#include "util/number_text.h"
 
 namespace lt {
 

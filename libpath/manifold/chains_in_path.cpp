@@ -4,7 +4,7 @@
 
 #include "bsdf/bsdf.h"
 #include "manifold/specular_constraint.h"
-#include "math/error.h"
+#include "util/error.h"
 #include "path/path_record.h"
 
 namespace lt {

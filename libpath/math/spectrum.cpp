@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "math/error.h"
+#include "util/error.h"
 
 namespace lt {
 

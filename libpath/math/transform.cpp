@@ -3,7 +3,7 @@
 #include <cmath>
 
 #include "math/constants.h"
-#include "math/error.h"
+#include "util/error.h"
 
 namespace lt {
 

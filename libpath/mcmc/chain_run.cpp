@@ -1,10 +1,6 @@
 #include "mcmc/chain_run.h"
 
-#include <oneapi/tbb/parallel_for.h>
-#include <oneapi/tbb/task_arena.h>
-
-#include "math/memory_budget.h"
-#include "scene/accel.h"
+#include "util/memory_budget.h"
 
 namespace lt {
 
@@ -13,14 +9,13 @@ void requireChainMemory(int chains) {
     requireMemory(double(chains) * MinBytesPerChain, "a run of " + std::to_string(chains) + " chains");
 }
 
-ChainRunner::ChainRunner(const ChainRunSettings& run, SampleFilm& film, const RunProgressCallback& progress,
-                         const std::atomic<bool>* stop, const RunSnapshotCallback& snapshot)
-    : run_(run), film_(film), progress_(progress), stop_(stop), snapshot_(snapshot), clock_(run.start) {
+ChainRunner::ChainRunner(const ChainRunSettings& run, SampleFilm& film, const RunControl& control)
+    : run_(run), film_(film), parallel_(control) {
     requireChainMemory(run.chains);
 }
 
 void ChainRunner::report(const char* phase, double fraction, uint64_t mutations) const {
-    if (progress_) progress_(clock_.progress(phase, fraction, mutations, run_.mutations));
+    parallel_.report(parallel_.clock().progress(phase, fraction, mutations, run_.mutations));
 }
 
 void ChainRunner::assignQuotas(std::vector<std::unique_ptr<MarkovChain>>& chains) const {
@@ -32,8 +27,6 @@ void ChainRunner::assignQuotas(std::vector<std::unique_ptr<MarkovChain>>& chains
 void ChainRunner::run(
     std::vector<std::unique_ptr<MarkovChain>>& chains, ChainRunStats& stats,
     const std::function<void(std::vector<std::unique_ptr<MarkovChain>>&, const RoundEnd&)>& afterRound) {
-    const int threads = run_.threads > 0 ? run_.threads : tbb::this_task_arena::max_concurrency();
-    tbb::task_arena arena(threads);
     const double pixels = double(film_.width()) * double(film_.height());
     SnapshotSchedule schedule = run_.snapshots;
     // A time limit never ends a run before its first round: a start-up that outlasts --time still gives
@@ -49,39 +42,39 @@ void ChainRunner::run(
             stats.interrupted = true;
             break;
         }
+        // The chains advance in parallel and their splats merge in chain order (in parallel over the film's rows):
+        // the film does not depend on which thread ran which chain.
         std::vector<ChainImage> images(chains.size(), ChainImage(1 / pixels));
         std::vector<uint64_t> done(chains.size(), 0);
-        arena.execute([&] {
-            tbb::parallel_for(size_t(0), chains.size(), [&](size_t c) {
+        std::vector<const std::vector<Splat>*> splats;
+        uint64_t roundMutations = 0;
+        parallel_.forEach(
+            chains.size(),
+            [&](uint64_t c) {
                 MarkovChain& chain = *chains[c];
                 const uint64_t n = std::min<uint64_t>(uint64_t(run_.mutationsPerRound), chain.quota - chain.done);
                 done[c] = chain.advance(n, images[c], timeUp);
                 chain.done += done[c];
-                EmbreeAccel::flushRayCount();
+            },
+            [&](uint64_t c) {
+                splats.push_back(&images[c].splats());
+                luminanceCredit_ += images[c].luminanceCredit();
+                roundMutations += done[c];
+                stats.normalization.take(chains[c]->normalization);
             });
-        });
-        // Merge in chain order (in parallel over the film's rows): the film does not depend on which thread
-        // ran which chain.
-        std::vector<const std::vector<Splat>*> splats;
-        uint64_t roundMutations = 0;
-        for (size_t c = 0; c < chains.size(); ++c) {
-            splats.push_back(&images[c].splats());
-            luminanceCredit_ += images[c].luminanceCredit();
-            roundMutations += done[c];
-            stats.normalization.take(chains[c]->normalization);
-        }
-        arena.execute([&] { film_.mergeSplats(splats, roundMutations); });
+        parallel_.execute([&] { film_.mergeSplats(splats, roundMutations); });
         mutations_ += roundMutations;
         const double wall = elapsed();
         if (afterRound)
-            afterRound(chains, {mutations_, filmB(stats), stats.normalization.samples(), wall, clock_.cpuSeconds()});
+            afterRound(chains,
+                       {mutations_, filmB(stats), stats.normalization.samples(), wall, parallel_.clock().cpuSeconds()});
         double fraction = run_.mutations > 0 ? double(mutations_) / double(run_.mutations) : -1;
         if (run_.timeLimit > 0) fraction = std::max(fraction, std::min(1.0, wall / run_.timeLimit));
-        if (snapshot_ && schedule.due(wall, double(mutations_) / pixels)) {
-            RunProgress p = clock_.progress("chains", fraction, mutations_, run_.mutations);
+        if (parallel_.snapshots() && schedule.due(wall, double(mutations_) / pixels)) {
+            RunProgress p = parallel_.clock().progress("chains", fraction, mutations_, run_.mutations);
             p.b = filmB(stats);
-            clock_.snapshot(
-                snapshot_, p, [&] { return film_.toBuffer(p.b); }, stats);
+            parallel_.snapshot(
+                p, [&] { return film_.toBuffer(p.b); }, stats);
         }
         report("chains", fraction, mutations_);
     }
@@ -100,7 +93,7 @@ double ChainRunner::filmB(const ChainRunStats& stats) const {
 
 void ChainRunner::finish(ChainRunStats& stats) const {
     stats.b = filmB(stats);
-    clock_.close(stats);
+    parallel_.clock().close(stats);
 }
 
 } // namespace lt

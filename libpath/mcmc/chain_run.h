@@ -26,7 +26,7 @@
 #include "mcmc/normalization.h"
 #include "mcmc/mutation_statistics.h"
 #include "sampling/bdpt.h"
-#include "sampling/run_clock.h"
+#include "sampling/parallel_run.h"
 
 namespace lt {
 
@@ -34,13 +34,9 @@ struct ChainRunSettings {
     uint64_t mutations = 0; // total over all chains (0: only the time limit bounds the run)
     double timeLimit = 0;   // seconds, start-up included (0: none)
     int chains = 256;       // independent chains; more chains, better stratified, shorter each
-    int threads = 0;        // 0 = all cores
     uint64_t seed = 0;
     int mutationsPerRound = 64; // per chain between merges (granularity of snapshots)
     SnapshotSchedule snapshots; // checked at the end of every round (sample counts: mutations per pixel)
-    // When the run began, for its clock and time limit: set it before work done ahead of the chains
-    // (lt-mutate's own BDPT seeding) so that it counts; empty: when the chains' runner starts.
-    std::optional<std::chrono::steady_clock::time_point> start;
     // The chains sample a target f* other than luminance (GDMLT's): the normalization estimates the integral of
     // luminance (targetValue) instead, b_lum, which BDPT samples estimate well, and the film is read with
     // b = b_lum N / sum of credit x lum f / f*, the chains' own estimate of b_lum / b turned around (the image of
@@ -97,17 +93,18 @@ public:
 // for the tools before their start-up and for ChainRunner.
 void requireChainMemory(int chains);
 
-// The clock, progress and snapshots of a run, from its start (start-up included) to its end.
+// The clock, progress and snapshots of a run, from its start (start-up included: RunControl::start) to its end.
 class ChainRunner {
 public:
     // Progress records count mutations as samples; a snapshot is the film read with the normalization as
     // it stands (RunProgress::b).
-    ChainRunner(const ChainRunSettings& run, SampleFilm& film, const RunProgressCallback& progress,
-                const std::atomic<bool>* stop, const RunSnapshotCallback& snapshot);
+    ChainRunner(const ChainRunSettings& run, SampleFilm& film, const RunControl& control);
 
+    // The run's threads, clock and stop flag, for its start-up too.
+    [[nodiscard]] ParallelRun& parallel() { return parallel_; }
     // Seconds since the start, snapshot writing excluded.
-    [[nodiscard]] double elapsed() const { return clock_.wallSeconds(); }
-    [[nodiscard]] bool stopped() const { return stop_ && stop_->load(); }
+    [[nodiscard]] double elapsed() const { return parallel_.elapsed(); }
+    [[nodiscard]] bool stopped() const { return parallel_.stopped(); }
     void report(const char* phase, double fraction, uint64_t mutations) const;
     // Give every chain its quota: the run's mutations split evenly (or unbounded with a time limit).
     void assignQuotas(std::vector<std::unique_ptr<MarkovChain>>& chains) const;
@@ -125,13 +122,10 @@ public:
 private:
     const ChainRunSettings& run_;
     SampleFilm& film_;
-    const RunProgressCallback& progress_;
-    const std::atomic<bool>* stop_;
-    const RunSnapshotCallback& snapshot_;
     // The b the film is read with now: the normalization's, or under another target the luminance-normalized one.
     [[nodiscard]] double filmB(const ChainRunStats& stats) const;
 
-    RunClock clock_;
+    ParallelRun parallel_;
     uint64_t mutations_ = 0;
     double luminanceCredit_ = 0;
 };

@@ -4,7 +4,7 @@
 
 #include "bsdf/shading_correction.h"
 #include "manifold/manifold_vertex.h"
-#include "math/error.h"
+#include "util/error.h"
 #include "path/path_record.h"
 
 namespace lt {

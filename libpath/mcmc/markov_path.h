@@ -42,7 +42,7 @@ struct MarkovPath {
     [[nodiscard]] std::vector<ImageContribution> contribution() const { return {{raster, f}}; }
 };
 
-// A chain's target function other than luminance (GDMLT's gradient target, mcmc/chain_gradient.h): f* of a
+// A chain's target function other than luminance (GDMLT's gradient target, gdmlt/chain_gradient.h): f* of a
 // path from its vertices (light to eye), raster position and f, positive wherever f is not black (a target that
 // is 0 where f is not would bias the image). Empty: targetValue(f), which evaluatePath sets.
 using PathTarget = std::function<double(const std::vector<PathVertex>& v, const Vec2& raster, const Spectrum& f)>;

@@ -8,9 +8,9 @@
 
 #include <string>
 
-#include "manifold/walk_statistics.h"
 #include "math/rng.h"
 #include "mcmc/markov_path.h"
+#include "mcmc/mutation_figures.h"
 
 namespace lt {
 
@@ -19,11 +19,20 @@ struct Proposal {
     double forwardQ = 0;               // T(x -> y) / f*(y), selection probability excluded
     double reverseQ = 0;               // T(y -> x) / f*(x)
     std::optional<RejectCause> failed; // no path proposed, and why
-    std::optional<WalkOutcome> walk;   // the manifold walk the proposal made, if any (its end-of-run figures)
     // For the detailed-balance checks of the tests: the density the proposal actually sampled its new
     // vertices with (multiplied step by step while sampling) and the one recomputed from scratch for
     // the same sampling decisions.
     double sampledDensity = 0, recomputedDensity = 0;
+    // The proposing chain's figures of this mutation (Mutation::makeFigures), which the mutation records into;
+    // null when it has none or nobody counts them.
+    MutationFigures* figures = nullptr;
+
+    // A fresh proposal, its figures kept: what every propose() starts with.
+    void reset() {
+        MutationFigures* f = figures;
+        *this = Proposal{};
+        figures = f;
+    }
 };
 
 // The end of every proposal: y re-evaluated from its vertices (false, with the cause in `failed`, when it
@@ -48,6 +57,9 @@ public:
     [[nodiscard]] virtual std::string name() const = 0;
     [[nodiscard]] virtual bool suitable(const MarkovPath& x) const = 0;
     virtual void propose(const MarkovPath& x, Pcg32& rng, Proposal& out) const = 0;
+    // A chain's object for the figures this mutation counts of its proposals beyond every strategy's counters
+    // (mcmc/mutation_figures.h); none by default.
+    [[nodiscard]] virtual std::unique_ptr<MutationFigures> makeFigures() const { return nullptr; }
 };
 
 } // namespace lt

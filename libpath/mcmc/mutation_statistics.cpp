@@ -1,20 +1,8 @@
 #include "mcmc/mutation_statistics.h"
 
 #include <cstdio>
-#include <sstream>
 
 namespace lt {
-
-RejectCause rejectCauseOf(WalkFailure f) {
-    switch (f) {
-    case WalkFailure::Occluded:
-        return RejectCause::Occluded;
-    case WalkFailure::NonReversible:
-        return RejectCause::NotReversible;
-    default:
-        return RejectCause::WalkFailed;
-    }
-}
 
 const char* rejectCauseName(RejectCause c) {
     switch (c) {
@@ -47,15 +35,31 @@ void StrategyCounters::merge(const StrategyCounters& o) {
     for (size_t i = 0; i < rejected.size(); ++i)
         rejected[i] += o.rejected[i];
     seconds += o.seconds;
-    walks.merge(o.walks);
 }
 
-MutationStatistics::MutationStatistics(std::vector<std::string> strategies)
-    : names_(std::move(strategies)), counters_(names_.size()) {}
+MutationStatistics::MutationStatistics(std::vector<std::string> strategies,
+                                       std::vector<std::unique_ptr<MutationFigures>> figures)
+    : names_(std::move(strategies)), counters_(names_.size()), figures_(std::move(figures)) {
+    figures_.resize(names_.size());
+}
+
+MutationStatistics::MutationStatistics(const MutationStatistics& o) { *this = o; }
+
+MutationStatistics& MutationStatistics::operator=(const MutationStatistics& o) {
+    if (this == &o) return *this;
+    names_ = o.names_;
+    counters_ = o.counters_;
+    figures_.clear();
+    for (const auto& f : o.figures_)
+        figures_.push_back(f ? f->clone() : nullptr);
+    return *this;
+}
 
 void MutationStatistics::merge(const MutationStatistics& o) {
-    for (size_t i = 0; i < counters_.size() && i < o.counters_.size(); ++i)
+    for (size_t i = 0; i < counters_.size() && i < o.counters_.size(); ++i) {
         counters_[i].merge(o.counters_[i]);
+        if (figures_[i] && o.figures_[i]) figures_[i]->merge(*o.figures_[i]);
+    }
 }
 
 file::StatTable MutationStatistics::table(const std::string& name) const {
@@ -77,10 +81,12 @@ file::StatTable MutationStatistics::table(const std::string& name) const {
     return t;
 }
 
-std::vector<file::StatTable> MutationStatistics::walkTables() const {
+std::vector<file::StatTable> MutationStatistics::figureTables() const {
     std::vector<file::StatTable> out;
     for (size_t i = 0; i < names_.size(); ++i)
-        if (counters_[i].walks.attempted) out.push_back(counters_[i].walks.table("walks." + names_[i], names_[i]));
+        if (figures_[i])
+            for (auto& t : figures_[i]->tables(names_[i]))
+                out.push_back(std::move(t));
     return out;
 }
 
@@ -125,12 +131,8 @@ std::string MutationStatistics::text() const {
         std::snprintf(line, sizeof line, " %9.2f\n", n > 0 ? 1e6 * k.seconds / n : 0.0);
         out += line;
     }
-    for (size_t i = 0; i < names_.size(); ++i) {
-        if (!counters_[i].walks.attempted) continue;
-        std::ostringstream walks;
-        counters_[i].walks.print(walks);
-        out += names_[i] + " walks:\n" + walks.str();
-    }
+    for (size_t i = 0; i < names_.size(); ++i)
+        if (figures_[i]) out += figures_[i]->text(names_[i]);
     return out;
 }
 

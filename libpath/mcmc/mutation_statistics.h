@@ -5,11 +5,12 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "formats/records.h"
-#include "manifold/walk_statistics.h"
+#include "mcmc/mutation_figures.h"
 
 namespace lt {
 
@@ -30,8 +31,6 @@ enum class RejectCause : int {
     Count
 };
 [[nodiscard]] const char* rejectCauseName(RejectCause c);
-// How a proposal whose manifold walk failed is counted: occluded, not reversible, or walk failed.
-[[nodiscard]] RejectCause rejectCauseOf(WalkFailure f);
 
 struct StrategyCounters {
     uint64_t proposed = 0;
@@ -39,31 +38,40 @@ struct StrategyCounters {
     double acceptance = 0; // sum of the acceptance probabilities
     std::array<uint64_t, size_t(RejectCause::Count)> rejected{};
     double seconds = 0; // CPU time spent proposing and evaluating
-    WalkStatistics walks; // the manifold walks of its proposals (ME Sec. 4's figures)
 
     void merge(const StrategyCounters& o);
 };
 
 class MutationStatistics {
 public:
-    explicit MutationStatistics(std::vector<std::string> strategies = {});
+    // `figures`, when given, one per strategy (null for a strategy without figures of its own).
+    explicit MutationStatistics(std::vector<std::string> strategies = {},
+                                std::vector<std::unique_ptr<MutationFigures>> figures = {});
+    MutationStatistics(const MutationStatistics& o);
+    MutationStatistics& operator=(const MutationStatistics& o);
+    MutationStatistics(MutationStatistics&&) = default;
+    MutationStatistics& operator=(MutationStatistics&&) = default;
 
     [[nodiscard]] const std::vector<std::string>& strategies() const { return names_; }
     StrategyCounters& operator[](size_t i) { return counters_[i]; }
     [[nodiscard]] const StrategyCounters& operator[](size_t i) const { return counters_[i]; }
+    // Strategy i's own figures (mcmc/mutation_figures.h), or null.
+    [[nodiscard]] MutationFigures* figures(size_t i) { return figures_[i].get(); }
+    [[nodiscard]] const MutationFigures* figures(size_t i) const { return figures_[i].get(); }
     void merge(const MutationStatistics& o);
 
     // The table as stored in files: one row per strategy; columns proposed, accepted, acceptance (mean
     // probability), one column per rejection cause, seconds.
     [[nodiscard]] file::StatTable table(const std::string& name = "strategies") const;
-    // Per strategy that walked, its walk figures (table name "walks.NAME").
-    [[nodiscard]] std::vector<file::StatTable> walkTables() const;
-    // The same as aligned text for a terminal, with the walk figures of each strategy that walked.
+    // The tables of the strategies' own figures (the walks of those that walked: "walks.NAME").
+    [[nodiscard]] std::vector<file::StatTable> figureTables() const;
+    // The same as aligned text for a terminal, with each strategy's own figures.
     [[nodiscard]] std::string text() const;
 
 private:
     std::vector<std::string> names_;
     std::vector<StrategyCounters> counters_;
+    std::vector<std::unique_ptr<MutationFigures>> figures_; // one per strategy
 };
 
 } // namespace lt

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <limits>
 
-#include "math/error.h"
+#include "util/error.h"
 
 namespace lt {
 

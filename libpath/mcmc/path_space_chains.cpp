@@ -5,14 +5,10 @@
 #include <optional>
 #include <utility>
 
-#include "math/error.h"
+#include "util/error.h"
 #include "path/path_record.h"
 #include "sampling/render.h"
 #include "sampling/seed_file.h"
-#include "scene/accel.h"
-
-#include <oneapi/tbb/parallel_for.h>
-#include <oneapi/tbb/task_arena.h>
 
 namespace lt {
 
@@ -26,7 +22,7 @@ public:
     PathSpaceChain(const Scene& scene, const std::vector<WeightedMutation>& mutations, MarkovPath start, Pcg32 rng,
                    uint64_t index, uint64_t dumpEvery, bool stream, const Bdpt* refine, const SampleFilm& film,
                    uint64_t refineEvery, uint64_t refineSeed, const PathTarget& target)
-        : scene_(scene), mutations_(mutations), x_(std::move(start)), rng_(rng), stats_(names(mutations)),
+        : scene_(scene), mutations_(mutations), x_(std::move(start)), rng_(rng), stats_(statisticsOf(mutations)),
           index_(index), dumpEvery_(dumpEvery), stream_(stream), refine_(refine), film_(film),
           refineEvery_(refineEvery), refineSeed_(refineSeed), target_(target) {
         if (target_) x_.target = target_(x_.v, x_.raster, x_.f);
@@ -51,8 +47,8 @@ public:
             }
             StrategyCounters& k = stats_[m];
             ++k.proposed;
+            proposal_.figures = stats_.figures(m);
             mutations_[m].mutation->propose(x_, rng_, proposal_);
-            if (proposal_.walk) k.walks.add(*proposal_.walk);
             if (target_ && !proposal_.failed) {
                 // Q(x -> y) = T(x -> y) / f*(y) was divided by the f* evaluatePath set; Q(y -> x) already
                 // holds the current state's target.
@@ -83,7 +79,7 @@ public:
                 }
             }
             k.acceptance += a;
-            if (proposal_.walk) k.walks.addAcceptance(*proposal_.walk, a);
+            if (proposal_.figures) proposal_.figures->settle(a);
             k.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
             const uint64_t count = done + i + 1;
             if (dumpEvery_ && count % dumpEvery_ == 0) dumped_.push_back(toPathRecord(scene_, x_, index_, count));
@@ -105,11 +101,15 @@ public:
     std::vector<file::PathRecord>& dumped() { return dumped_; }
     file::EncodedChainStates& streamed() { return streamed_; }
 
-    static std::vector<std::string> names(const std::vector<WeightedMutation>& mutations) {
-        std::vector<std::string> out;
-        for (const auto& m : mutations)
-            out.push_back(m.mutation->name());
-        return out;
+    // Empty statistics of the mix: a row per mutation, with its own figures.
+    static MutationStatistics statisticsOf(const std::vector<WeightedMutation>& mutations) {
+        std::vector<std::string> names;
+        std::vector<std::unique_ptr<MutationFigures>> figures;
+        for (const auto& m : mutations) {
+            names.push_back(m.mutation->name());
+            figures.push_back(m.mutation->makeFigures());
+        }
+        return MutationStatistics(std::move(names), std::move(figures));
     }
 
 private:
@@ -196,7 +196,7 @@ double bdptSampleOfB(const Bdpt& bdpt, const SampleFilm& film, uint64_t seed, ui
 }
 
 PathSpaceSeeds seedWithBdpt(const Scene& scene, const PathSettings& bdpt, uint64_t samples, size_t keep, uint64_t seed,
-                            int threads, const std::atomic<bool>* stop, const PathTarget& target) {
+                            const RunControl& control, const PathTarget& target) {
     // `samples` BDPT samples at uniformly chosen pixels (not whole passes: on a large image a pass alone
     // would outlast a short run), each with its own keyed stream; candidates and samples of b reach the
     // reservoir and the estimate in sample order, block by block, so nothing depends on the thread count.
@@ -204,42 +204,45 @@ PathSpaceSeeds seedWithBdpt(const Scene& scene, const PathSettings& bdpt, uint64
     const Bdpt sampler(scene, bdpt);
     SeedReservoir reservoir(keep, seed ^ 0x9e3779b97f4a7c15ULL);
     PathSpaceSeeds out;
-    const int nThreads = threads > 0 ? threads : tbb::this_task_arena::max_concurrency();
-    tbb::task_arena arena(nThreads);
-    constexpr uint64_t Block = 1024;
-    const uint64_t blocks = (samples + Block - 1) / Block;
-    for (uint64_t wave = 0; wave < blocks && !(stop && stop->load()); wave += uint64_t(2 * nThreads)) {
-        const uint64_t end = std::min(blocks, wave + uint64_t(2 * nThreads));
-        std::vector<std::vector<file::PathRecord>> candidates(size_t(end - wave));
-        std::vector<std::vector<double>> values(size_t(end - wave));
-        arena.execute([&] {
-            tbb::parallel_for(wave, end, [&](uint64_t b) {
-                for (uint64_t i = b * Block; i < std::min(samples, (b + 1) * Block); ++i) {
-                    const StrategyCallback collect = [&](const StrategyPath& sp) {
-                        candidates[size_t(b - wave)].push_back(seedCandidate(scene, film, sp, i, 0));
-                        if (target) candidates[size_t(b - wave)].back().weight = targetSeedWeight(film, sp, target);
-                    };
-                    values[size_t(b - wave)].push_back(bdptSampleOfB(sampler, film, seed, i, &collect));
-                }
-                EmbreeAccel::flushRayCount();
-            });
-        });
-        for (size_t b = 0; b < candidates.size(); ++b) {
-            for (const auto& c : candidates[b])
+    constexpr uint64_t Block = 1024; // samples a work item
+    struct SampleBlock {
+        uint64_t index = 0;
+        std::vector<file::PathRecord> candidates;
+        std::vector<double> values;
+    };
+    ParallelRun run(control);
+    uint64_t next = 0;
+    run.ordered<SampleBlock>(
+        [&](SampleBlock& block) {
+            if (run.stopped() || next * Block >= samples) return false;
+            block.index = next++;
+            block.candidates.clear();
+            block.values.clear();
+            return true;
+        },
+        [&](SampleBlock& block) {
+            for (uint64_t i = block.index * Block; i < std::min(samples, (block.index + 1) * Block); ++i) {
+                const StrategyCallback collect = [&](const StrategyPath& sp) {
+                    block.candidates.push_back(seedCandidate(scene, film, sp, i, 0));
+                    if (target) block.candidates.back().weight = targetSeedWeight(film, sp, target);
+                };
+                block.values.push_back(bdptSampleOfB(sampler, film, seed, i, &collect));
+            }
+        },
+        [&](SampleBlock& block) {
+            for (const auto& c : block.candidates)
                 reservoir.add(c);
-            for (double v : values[b])
+            for (double v : block.values)
                 out.b.add(0, v);
-        }
-    }
+        });
     out.paths = reservoir.draws();
     return out;
 }
 
 ChainRunStats runPathSpaceChains(const Scene& scene, const PathSpaceSeeds& seeds,
                                  const std::vector<WeightedMutation>& mutations, const ChainRunSettings& run,
-                                 const PathSettings& bdpt, double refineB, SampleFilm& film,
-                                 const RunProgressCallback& progress, const std::atomic<bool>* stop,
-                                 const RunSnapshotCallback& snapshot, const PathDump& dump, const PathTarget& target) {
+                                 const PathSettings& bdpt, double refineB, SampleFilm& film, const RunControl& control,
+                                 const PathDump& dump, const PathTarget& target) {
     if (run.chains < 1) throw Error("the number of chains must be at least 1");
     if (run.mutations == 0 && !(run.timeLimit > 0)) throw Error("give a number of mutations or a time limit");
     if (mutations.empty()) throw Error("no mutation to run");
@@ -247,9 +250,9 @@ ChainRunStats runPathSpaceChains(const Scene& scene, const PathSpaceSeeds& seeds
     if (!(refineB >= 0 && refineB <= 1)) throw Error("the samples of b per mutation must be in [0, 1]");
     ChainRunSettings settings = run;
     settings.luminanceNormalized = bool(target);
-    ChainRunner runner(settings, film, progress, stop, snapshot);
+    ChainRunner runner(settings, film, control);
     ChainRunStats stats;
-    stats.strategies = MutationStatistics(PathSpaceChain::names(mutations));
+    stats.strategies = PathSpaceChain::statisticsOf(mutations);
     stats.normalization = seeds.b;
     stats.startupSamples = seeds.b.samples();
     // The run's own samples of b: BDPT with the scene's settings, one every `refineEvery` mutations of a chain.

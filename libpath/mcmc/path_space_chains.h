@@ -54,8 +54,7 @@ struct PathSpaceSeeds {
 // samples (whole passes), `keep` draws. With a `target`, the draws are in proportion to it (b stays the
 // integral of luminance: ChainRunSettings::luminanceNormalized).
 [[nodiscard]] PathSpaceSeeds seedWithBdpt(const Scene& scene, const PathSettings& bdpt, uint64_t samples, size_t keep,
-                                          uint64_t seed, int threads, const std::atomic<bool>* stop,
-                                          const PathTarget& target = {});
+                                          uint64_t seed, const RunControl& control, const PathTarget& target = {});
 
 // What the chains hand over after each round, in chain order:
 // * every `every`-th state of each chain (counting its mutations): lt-mutate --dump-paths, for trace plots
@@ -79,9 +78,7 @@ struct PathDump {
 // seeds.b stays the integral of luminance, and the film is read as ChainRunSettings::luminanceNormalized says.
 ChainRunStats runPathSpaceChains(const Scene& scene, const PathSpaceSeeds& seeds,
                                  const std::vector<WeightedMutation>& mutations, const ChainRunSettings& run,
-                                 const PathSettings& bdpt, double refineB, SampleFilm& film,
-                                 const RunProgressCallback& progress, const std::atomic<bool>* stop,
-                                 const RunSnapshotCallback& snapshot = {}, const PathDump& dump = {},
-                                 const PathTarget& target = {});
+                                 const PathSettings& bdpt, double refineB, SampleFilm& film, const RunControl& control,
+                                 const PathDump& dump = {}, const PathTarget& target = {});
 
 } // namespace lt

@@ -1,18 +1,15 @@
 #include "mcmc/primary_space_chains.h"
 
-#include <oneapi/tbb/parallel_for.h>
-#include <oneapi/tbb/task_arena.h>
-
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <memory>
 #include <optional>
 
 #include "math/distribution.h"
-#include "math/error.h"
+#include "util/error.h"
 #include "mcmc/metropolis.h"
 #include "mcmc/primary_space_target.h"
-#include "scene/accel.h"
 
 namespace lt {
 
@@ -120,126 +117,172 @@ private:
     std::vector<uint64_t> mutationsPerLength_;
 };
 
+// The start-up (file comment of primary_space_chains.h): independent primary samples of every path length (one
+// length, 0, for Kelemen's), in rounds, until b is known to `startupError` or the budget is spent. Their values
+// stay for the choice of the chains' first states.
+class StartUp {
+public:
+    StartUp(const PrimarySpaceTarget& target, const PrimarySpaceSettings& space, uint64_t seed, ChainRunner& runner)
+        : target_(target), space_(space), seed_(seed), runner_(runner),
+          multiplexed_(space.space == PrimarySpace::Multiplexed), lengths_(multiplexed_ ? target.maxEdges() : 1),
+          budgetCount_(size_t(lengths_) + 1, 0.0), values_(size_t(lengths_) + 1) {
+        // The budget: `startupSamples` per path length on average, n_k = startupSamples x (mean length) / k for
+        // length k, the same work (about k + 1 rays a sample) for every length.
+        for (int k = 1; k <= lengths_; ++k) {
+            budgetCount_[size_t(k)] = double(space.startupSamples) * (multiplexed_ ? 0.5 * (lengths_ + 1) / k : 1.0);
+            budget_ += budgetCount_[size_t(k)] * cost(k);
+        }
+    }
+
+    [[nodiscard]] int lengths() const { return lengths_; }
+    [[nodiscard]] size_t stratum(int k) const { return multiplexed_ ? size_t(k) : 0; }
+    [[nodiscard]] double workDone() const { return spent_ / budget_; }
+    [[nodiscard]] uint64_t nonFinite() const { return nonFinite_; }
+    // The values of length k's samples, in index order.
+    [[nodiscard]] std::vector<double>& values(int k) { return values_[size_t(k)]; }
+
+    // The pilot spends 1/8 of the budget spread as the budget (at least two samples a length, for a deviation);
+    // each later round adds half the work done, a quarter spread so and the rest by Neyman allocation from the
+    // deviations seen so far.
+    void run(NormalizationEstimate& b) {
+        std::vector<uint64_t> add(size_t(lengths_) + 1, 0);
+        for (int k = 1; k <= lengths_; ++k)
+            add[size_t(k)] = std::max<uint64_t>(2, uint64_t(budgetCount_[size_t(k)] / 8));
+        draw(add, b);
+        while (!runner_.stopped() && spent_ < budget_) {
+            if (space_.startupError > 0 && b.b() > 0 && b.relativeStandardError() <= space_.startupError) break;
+            add = nextRound(b);
+            uint64_t added = 0;
+            for (const uint64_t n : add)
+                added += n;
+            if (added == 0) break;
+            draw(add, b);
+        }
+    }
+
+private:
+    [[nodiscard]] double cost(int k) const { return multiplexed_ ? double(k + 1) : 1.0; }
+
+    // The samples of the next round: half the work so far (the start-up ends within 1.5 times the work its error
+    // needs). A quarter of it spread as the budget, the rest by Neyman allocation: a length whose samples so far
+    // show no spread (a rare light the pilot missed) still gets its even share, so no length's count rests on the
+    // values drawn alone. All of it spread so while no light is seen at all.
+    [[nodiscard]] std::vector<uint64_t> nextRound(const NormalizationEstimate& b) const {
+        const double work = std::min(spent_ / 2, budget_ - spent_);
+        std::vector<double> deviation(size_t(lengths_) + 1, 0.0), costs(deviation.size(), 1.0);
+        std::vector<uint64_t> have(deviation.size(), 0), even(deviation.size(), 0);
+        for (int k = 1; k <= lengths_; ++k) {
+            deviation[size_t(k)] = b.stratumDeviation(stratum(k));
+            costs[size_t(k)] = cost(k);
+            even[size_t(k)] = uint64_t(budgetCount_[size_t(k)] * EvenShare * work / budget_);
+            have[size_t(k)] = values_[size_t(k)].size() + even[size_t(k)];
+        }
+        std::vector<uint64_t> add = neymanAllocation(deviation, costs, have, (1 - EvenShare) * work);
+        uint64_t added = 0;
+        for (size_t k = 0; k < add.size(); ++k)
+            added += add[k];
+        for (int k = 1; k <= lengths_; ++k)
+            add[size_t(k)] += added > 0 ? even[size_t(k)] : uint64_t(budgetCount_[size_t(k)] * work / budget_);
+        return add;
+    }
+
+    // `add[k]` more samples of each length k, keyed by their index within the length; their values join b in index
+    // order, so b is the same for any thread count. In chunks of an eighth of the length's share of the budget (at
+    // least 4096), so that Ctrl-C ends even a round that gives one length half the budget soon.
+    void draw(const std::vector<uint64_t>& add, NormalizationEstimate& b) {
+        constexpr uint64_t Block = 256; // samples a work item
+        for (int k = 1; k <= lengths_; ++k) {
+            std::vector<double>& v = values_[size_t(k)];
+            const uint64_t chunk = std::max<uint64_t>(4096, uint64_t(budgetCount_[size_t(k)] / 8));
+            for (uint64_t done = 0; done < add[size_t(k)] && !runner_.stopped();) {
+                const uint64_t count = std::min(chunk, add[size_t(k)] - done);
+                const size_t begin = v.size();
+                v.resize(begin + count);
+                runner_.parallel().forEach(
+                    (count + Block - 1) / Block,
+                    [&](uint64_t block) {
+                        std::vector<ImageContribution> c;
+                        SampleHealth health;
+                        for (uint64_t i = block * Block; i < std::min(count, (block + 1) * Block); ++i) {
+                            PrimarySampleVector u(Pcg32(), startupStream(seed_, multiplexed_ ? k : 0, begin + i),
+                                                  space_.smallStep);
+                            v[begin + i] = multiplexed_ ? target_.evaluateMultiplexed(k, u, c, health)
+                                                        : target_.evaluateAll(u, c, health);
+                        }
+                        nonFiniteBlocks_ += health.nonFinite;
+                    },
+                    [&](uint64_t block) {
+                        for (uint64_t i = block * Block; i < std::min(count, (block + 1) * Block); ++i)
+                            b.add(stratum(k), v[begin + i]);
+                    });
+                nonFinite_ += nonFiniteBlocks_.exchange(0);
+                spent_ += double(count) * cost(k);
+                done += count;
+                runner_.report("start-up", std::min(1.0, spent_ / budget_), 0);
+            }
+        }
+    }
+
+    const PrimarySpaceTarget& target_;
+    const PrimarySpaceSettings& space_;
+    uint64_t seed_;
+    ChainRunner& runner_;
+    bool multiplexed_;
+    int lengths_;
+    std::vector<double> budgetCount_;
+    double budget_ = 0, spent_ = 0;
+    std::vector<std::vector<double>> values_; // f* of the start-up samples of each length
+    std::atomic<uint64_t> nonFiniteBlocks_{0};
+    uint64_t nonFinite_ = 0;
+};
+
+// q, the distribution of a multiplexed large step's path length (file comment of primary_space_chains.h): the
+// start-up's estimate of b_k / b mixed with a floor spread in proportion to 1 / k.
+DiscreteDistribution lengthProposal(const NormalizationEstimate& normalization, int lengths) {
+    const double b = normalization.b();
+    double harmonic = 0;
+    for (int k = 1; k <= lengths; ++k)
+        harmonic += 1.0 / k;
+    std::vector<double> q(static_cast<size_t>(lengths));
+    for (int k = 1; k <= lengths; ++k)
+        q[size_t(k - 1)] = (1 - LengthFloor) * normalization.stratumB(size_t(k)) / b + LengthFloor / (k * harmonic);
+    return DiscreteDistribution(q);
+}
+
 } // namespace
 
 ChainRunStats runPrimarySpaceChains(const Scene& scene, const PrimarySpaceSettings& space, const ChainRunSettings& run,
-                                    SampleFilm& film, const RunProgressCallback& progress,
-                                    const std::atomic<bool>* stop, const RunSnapshotCallback& snapshot) {
+                                    SampleFilm& film, const RunControl& control) {
     if (run.chains < 1) throw Error("the number of chains must be at least 1");
     if (space.startupSamples == 0) throw Error("the start-up needs a budget of at least one sample");
     if (run.mutations == 0 && !(run.timeLimit > 0)) throw Error("give a number of mutations or a time limit");
     if (!(space.largeStepProbability >= 0 && space.largeStepProbability <= 1))
         throw Error("the large-step probability must be in [0, 1]");
-    ChainRunner runner(run, film, progress, stop, snapshot);
+    ChainRunner runner(run, film, control);
     const PrimarySpaceTarget target(scene, space.paths, space.unboundedEdges);
     const bool multiplexed = space.space == PrimarySpace::Multiplexed;
     ChainRunStats stats;
     stats.strategies = MutationStatistics({"large step", "small step"});
-    const int threads = run.threads > 0 ? run.threads : tbb::this_task_arena::max_concurrency();
-    tbb::task_arena arena(threads);
 
-    // 1. Start-up: independent primary samples, in rounds (file comment of primary_space_chains.h). The
-    //    budget: `startupSamples` per path length on average, n_k = startupSamples x (mean length) / k for
-    //    length k, the same work (about k + 1 rays a sample) for every length. A pilot spends 1/8 of it so;
-    //    each later round adds half the work done, a quarter spread so and the rest by Neyman allocation from
-    //    the deviations seen so far, until b's relative standard error is at most `startupError` or the
-    //    budget is spent.
-    const int lengths = multiplexed ? target.maxEdges() : 1;
-    const auto cost = [&](int k) { return multiplexed ? double(k + 1) : 1.0; };
-    std::vector<double> budgetCount(size_t(lengths) + 1, 0.0);
-    double budget = 0;
-    for (int k = 1; k <= lengths; ++k) {
-        budgetCount[size_t(k)] = double(space.startupSamples) * (multiplexed ? 0.5 * (lengths + 1) / k : 1.0);
-        budget += budgetCount[size_t(k)] * cost(k);
-    }
-    const size_t strata = multiplexed ? size_t(lengths) + 1 : 1;
-    const auto stratum = [&](int k) { return multiplexed ? size_t(k) : 0; };
-    std::vector<std::vector<double>> values(size_t(lengths) + 1); // f* of the start-up samples of each length
-    stats.normalization = NormalizationEstimate(strata);
-    std::atomic<uint64_t> startupNonFinite{0};
-    double spent = 0;
-    // `add[k]` more samples of each length k, keyed by their index within the length; their values join b
-    // in index order, so b is the same for any thread count. In chunks of an eighth of the length's share of
-    // the budget (at least 4096), so that Ctrl-C ends even a round that gives one length half the budget soon.
-    const auto draw = [&](const std::vector<uint64_t>& add) {
-        for (int k = 1; k <= lengths; ++k) {
-            std::vector<double>& v = values[size_t(k)];
-            const uint64_t chunk = std::max<uint64_t>(4096, uint64_t(budgetCount[size_t(k)] / 8));
-            for (uint64_t done = 0; done < add[size_t(k)] && !runner.stopped();) {
-                const uint64_t count = std::min(chunk, add[size_t(k)] - done);
-                const size_t begin = v.size();
-                v.resize(begin + count);
-                arena.execute([&] {
-                    tbb::parallel_for(
-                        tbb::blocked_range<uint64_t>(0, count, 256), [&](const tbb::blocked_range<uint64_t>& r) {
-                            std::vector<ImageContribution> c;
-                            SampleHealth health;
-                            for (uint64_t i = r.begin(); i != r.end(); ++i) {
-                                PrimarySampleVector u(Pcg32(), startupStream(run.seed, multiplexed ? k : 0, begin + i),
-                                                      space.smallStep);
-                                v[begin + i] = multiplexed ? target.evaluateMultiplexed(k, u, c, health)
-                                                           : target.evaluateAll(u, c, health);
-                            }
-                            EmbreeAccel::flushRayCount();
-                            startupNonFinite += health.nonFinite;
-                        });
-                });
-                for (size_t i = begin; i < v.size(); ++i)
-                    stats.normalization.add(stratum(k), v[i]);
-                spent += double(count) * cost(k);
-                done += count;
-                runner.report("start-up", std::min(1.0, spent / budget), 0);
-            }
-        }
-    };
-    // The pilot: at least two samples a length, for a deviation.
-    std::vector<uint64_t> add(size_t(lengths) + 1, 0);
-    for (int k = 1; k <= lengths; ++k)
-        add[size_t(k)] = std::max<uint64_t>(2, uint64_t(budgetCount[size_t(k)] / 8));
-    draw(add);
-    while (!runner.stopped() && spent < budget) {
-        const double b = stats.normalization.b();
-        if (space.startupError > 0 && b > 0 && stats.normalization.relativeStandardError() <= space.startupError) break;
-        // Rounds of half the work so far: the start-up ends within 1.5 times the work its error needs.
-        const double work = std::min(spent / 2, budget - spent);
-        // A quarter of the round spread as the budget, the rest by Neyman allocation: a length whose samples
-        // so far show no spread (a rare light the pilot missed) still gets its even share, so no length's
-        // count rests on the values drawn alone. All of it spread so while no light is seen at all.
-        std::vector<double> deviation(size_t(lengths) + 1, 0.0), costs(deviation.size(), 1.0);
-        std::vector<uint64_t> have(deviation.size(), 0), even(deviation.size(), 0);
-        for (int k = 1; k <= lengths; ++k) {
-            deviation[size_t(k)] = stats.normalization.stratumDeviation(stratum(k));
-            costs[size_t(k)] = cost(k);
-            even[size_t(k)] = uint64_t(budgetCount[size_t(k)] * EvenShare * work / budget);
-            have[size_t(k)] = values[size_t(k)].size() + even[size_t(k)];
-        }
-        add = neymanAllocation(deviation, costs, have, (1 - EvenShare) * work);
-        uint64_t added = 0;
-        for (size_t k = 0; k < add.size(); ++k)
-            added += add[k];
-        for (int k = 1; k <= lengths; ++k)
-            add[size_t(k)] += added > 0 ? even[size_t(k)] : uint64_t(budgetCount[size_t(k)] * work / budget);
-        added = 0;
-        for (const uint64_t n : add)
-            added += n;
-        if (added == 0) break;
-        draw(add);
-    }
+    // 1. Start-up: independent primary samples, in rounds (file comment of primary_space_chains.h).
+    StartUp startUp(target, space, run.seed, runner);
+    const int lengths = startUp.lengths();
+    stats.normalization = NormalizationEstimate(multiplexed ? size_t(lengths) + 1 : 1);
+    startUp.run(stats.normalization);
     std::vector<uint64_t> first(size_t(lengths) + 2, 0); // samples of length k: [first[k], first[k + 1])
     for (int k = 1; k <= lengths; ++k)
-        first[size_t(k) + 1] = first[size_t(k)] + values[size_t(k)].size();
+        first[size_t(k) + 1] = first[size_t(k)] + startUp.values(k).size();
     stats.startupSamples = first[size_t(lengths) + 1];
-    stats.health.nonFinite = startupNonFinite.load();
+    stats.health.nonFinite = startUp.nonFinite();
     stats.startupSeconds = runner.elapsed();
-    stats.startupWork = spent / budget;
+    stats.startupWork = startUp.workDone();
     stats.startupError = stats.normalization.relativeStandardError();
     if (runner.stopped()) {
         stats.interrupted = true;
         runner.finish(stats);
         return stats;
     }
-    const double b = stats.normalization.b();
-    if (!(b > 0))
+    if (!(stats.normalization.b() > 0))
         throw Error("the start-up found no light reaching the camera in " + std::to_string(stats.startupSamples) +
                     " samples: nothing for the chains to start from (raise --startup-samples, or check the scene)");
 
@@ -247,23 +290,14 @@ ChainRunStats runPrimarySpaceChains(const Scene& scene, const PrimarySpaceSettin
     // proportion to the target over all lengths. A sample of length k stands for 1 / n_k of that length's
     // integral, so its resampling weight is f* / n_k (start-up bias removal over the strata); systematic
     // over the chain index.
-    std::optional<DiscreteDistribution> lengthProposal;
-    if (multiplexed) {
-        double harmonic = 0;
-        for (int k = 1; k <= lengths; ++k)
-            harmonic += 1.0 / k;
-        std::vector<double> q(static_cast<size_t>(lengths));
-        for (int k = 1; k <= lengths; ++k)
-            q[size_t(k - 1)] =
-                (1 - LengthFloor) * stats.normalization.stratumB(size_t(k)) / b + LengthFloor / (k * harmonic);
-        lengthProposal.emplace(q);
-    }
+    std::optional<DiscreteDistribution> lengthsQ;
+    if (multiplexed) lengthsQ.emplace(lengthProposal(stats.normalization, lengths));
     std::vector<double> weights;
     weights.reserve(stats.startupSamples);
     for (int k = 1; k <= lengths; ++k) {
-        for (const double f : values[size_t(k)])
-            weights.push_back(f / double(values[size_t(k)].size()));
-        values[size_t(k)] = std::vector<double>();
+        for (const double f : startUp.values(k))
+            weights.push_back(f / double(startUp.values(k).size()));
+        startUp.values(k) = std::vector<double>();
     }
     Pcg32 allocation = chainStream(run.seed, ~uint64_t(0));
     const std::vector<size_t> starts = systematicResample(weights, size_t(run.chains), allocation.nextDouble());
@@ -279,7 +313,7 @@ ChainRunStats runPrimarySpaceChains(const Scene& scene, const PrimarySpaceSettin
             target, space,
             PrimarySampleVector(rng, startupStream(run.seed, multiplexed ? k : 0, index - first[size_t(k)]),
                                 space.smallStep),
-            k, lengthProposal ? &*lengthProposal : nullptr));
+            k, lengthsQ ? &*lengthsQ : nullptr));
         if (multiplexed) ++stats.chainsPerLength[size_t(k)];
     }
     runner.assignQuotas(chains);

@@ -57,7 +57,6 @@ struct PrimarySpaceSettings {
 // Renders into `film` (its splats; the film's light-path count becomes the number of mutations).
 // Throws lt::Error when the start-up finds no light at all.
 ChainRunStats runPrimarySpaceChains(const Scene& scene, const PrimarySpaceSettings& space, const ChainRunSettings& run,
-                                    SampleFilm& film, const RunProgressCallback& progress,
-                                    const std::atomic<bool>* stop, const RunSnapshotCallback& snapshot = {});
+                                    SampleFilm& film, const RunControl& control);
 
 } // namespace lt

@@ -2,8 +2,8 @@
 
 #include <fstream>
 
-#include "math/error.h"
-#include "math/temp_output.h"
+#include "util/error.h"
+#include "util/temp_output.h"
 
 namespace lt {
 

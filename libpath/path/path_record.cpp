@@ -1,6 +1,6 @@
 #include "path/path_record.h"
 
-#include "math/error.h"
+#include "util/error.h"
 
 namespace lt {
 

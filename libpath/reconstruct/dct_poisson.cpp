@@ -8,7 +8,7 @@
 #include <type_traits>
 
 #include "math/constants.h"
-#include "math/error.h"
+#include "util/error.h"
 
 namespace lt {
 

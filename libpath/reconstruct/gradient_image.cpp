@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "image/image_io.h"
-#include "math/error.h"
+#include "util/error.h"
 
 namespace lt {
 

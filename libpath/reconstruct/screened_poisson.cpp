@@ -10,7 +10,7 @@
 #include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/task_arena.h>
 
-#include "math/error.h"
+#include "util/error.h"
 #include "reconstruct/dct_poisson.h"
 #include "reconstruct/normal_equations.h"
 
@@ -263,6 +263,173 @@ void checkSettings(const ReconstructSettings& s) {
     if (s.threads < 1) throw Error("threads must be at least 1");
 }
 
+// The solver a reconstruction uses, with the reason in `statistics`.
+//
+// The design card names Ceres, and it stays the solver of small images: exact, and its Problem is
+// checked against an independent solve. For large ones its cost is the obstacle, not the method: at
+// 1280x720 RGB (pipelines/bench/reconstruct.sh, 2 cores) Ceres CGNR took 36-39 s for L2 and 419-685 s
+// for L1 at 0.95 KB per pixel, half of it in Ceres's block-sparse products (100-200 ms per CG step,
+// single-threaded in Ceres 2.1) and 0.6-1 s of problem setup per solve. Eigen CG on the assembled
+// 5-point matrix of the same normal equations: 18 ms per CG step (memory-bound: 64 bytes of matrix
+// and ~19 vector passes per pixel), 2.8 s of solve for L2 on 2 threads, 9-15 s for L1 (depending on
+// the load of the shared machine), 0.3 GB; 4K L2 30 s, 1.9 GB. Ceres's sparse Cholesky,
+// 2 threads, L2 / L1: 0.07 / 1.3 s at 64x64, 0.34 / 7.4 s at 128x128, 2.4 / 45 s at 256x256
+// (Eigen CG: 0.01 / 0.03, 0.04 / 0.10, 0.13 / 0.5 s), hence the threshold kCholeskyMaxPixels.
+// Above it L2 goes to the cosine transform (dct_poisson.h): exact (relative residual ~1e-15) and
+// O(N log N), 0.16-0.32 s of solve at 1280x720 on 2 threads (Eigen CG: 2.8-4.3 s to 1e-5), 0.2 GB,
+// the whole bench run about 1 s; 4K 2.5 s of solve, 0.7 GB. L1 stays with Eigen CG: its IRLS
+// weights change per pixel and by up to 1 / reg (1e7 at the last step), which no transform
+// diagonalizes, and the transform-preconditioned CG measured no faster (kCosineL1Iterations).
+PoissonSolver chooseSolver(const ReconstructSettings& settings, size_t N, ReconstructStatistics& statistics) {
+    if (settings.solver != PoissonSolver::Auto) {
+        statistics.solverReason = "requested";
+        return settings.solver;
+    }
+    const bool small = N <= kCholeskyMaxPixels;
+    const bool l1 = settings.norm == ReconstructNorm::L1;
+    statistics.solverReason = "auto: " + std::to_string(N) + (small ? " <= " : " > ") +
+                              std::to_string(kCholeskyMaxPixels) + " pixels" +
+                              (small ? "" : ", " + normName(settings.norm));
+    return small ? PoissonSolver::SparseNormalCholesky : l1 ? PoissonSolver::EigenCg : PoissonSolver::Cosine;
+}
+
+// One linear problem at a time (L2's, or an IRLS step's), all three channels from their current values (the warm
+// start) to the solution, with the solver chosen: Ceres's, Eigen CG on the assembled normal equations, or the
+// cosine transform.
+class ChannelSolver {
+public:
+    ChannelSolver(const GradientImage& image, const ReconstructSettings& settings, PoissonSolver solver,
+                  ReconstructStatistics& statistics, const ReconstructProgress& progress)
+        : image_(image), settings_(settings), solver_(solver), statistics_(statistics), progress_(progress),
+          total_(3 * (settings.norm == ReconstructNorm::L1 ? settings.irlsIterations : 1)), arena_(settings.threads) {
+        const bool l1 = settings.norm == ReconstructNorm::L1;
+        maxLinearIterations_ = settings.maxLinearIterations;
+        if (maxLinearIterations_ == 0)
+            maxLinearIterations_ = !l1                                ? 500
+                                   : solver == PoissonSolver::EigenCg ? kEigenCgL1Iterations
+                                   : solver == PoissonSolver::Cosine  ? kCosineL1Iterations
+                                                                      : 50;
+        if (solver == PoissonSolver::EigenCg) {
+            statistics.solver = "EIGEN_CG";
+        } else if (solver == PoissonSolver::Cosine) {
+            statistics.solver = "DCT";
+            transform_.emplace(image.width, image.height);
+        } else {
+            setUpCeres();
+        }
+    }
+
+    void solve(const ResidualWeights& weights, Solution& x) {
+        if (solver_ != PoissonSolver::EigenCg && solver_ != PoissonSolver::Cosine)
+            solveCeres(weights, x);
+        else
+            solveEigen(weights, x);
+    }
+
+private:
+    void setUpCeres() {
+        options_.linear_solver_type =
+            solver_ == PoissonSolver::SparseNormalCholesky ? ceres::SPARSE_NORMAL_CHOLESKY : ceres::CGNR;
+        options_.preconditioner_type = ceres::JACOBI;
+        options_.num_threads = settings_.threads;
+        options_.logging_type = ceres::SILENT;
+        // The problem is linear least squares: with an (effectively) unbounded trust region the first
+        // Levenberg-Marquardt step is the Gauss-Newton step, i.e. the solution of the normal equations
+        // (the screened Poisson equation), so one iteration suffices.
+        options_.initial_trust_region_radius = 1e16;
+        options_.max_trust_region_radius = 1e16;
+        options_.max_num_iterations = 1;
+        // CGNR: GPT's presets cap the CG steps (L2Q 500, L1D 50 per reweighting step). eta, Ceres's
+        // threshold on the relative decrease of the quadratic model, is tight, so CG runs to its own
+        // convergence or the cap (1280x720, alpha 0.2: about 55 steps, the final cost of sparse Cholesky).
+        options_.max_linear_solver_iterations = maxLinearIterations_;
+        options_.eta = 1e-10;
+        statistics_.solver = ceres::LinearSolverTypeToString(options_.linear_solver_type);
+        ceresProblem_.emplace(image_, settings_.alpha);
+    }
+
+    void solveCeres(const ResidualWeights& weights, Solution& x) {
+        ceresProblem_->setWeights(weights);
+        for (size_t c = 0; c < 3; ++c) {
+            const ceres::Solver::Summary summary = ceresProblem_->solve(c, x[c], options_);
+            ++statistics_.solves;
+            // summary.iterations starts with iteration 0, the evaluation at the starting point.
+            statistics_.solverIterations += int(summary.iterations.size()) - 1;
+            for (const auto& it : summary.iterations)
+                statistics_.linearIterations += it.linear_solver_iterations;
+            if (progress_) progress_(++done_, total_);
+        }
+    }
+
+    // The weights are shared by R, G and B, so one matrix (or one constant-weight operator) serves the three
+    // channels, solved in parallel (each CG is a chain of dependent mat-vecs, each cosine solve two transforms;
+    // three are the parallelism there is). Constant weights (L2) make the cosine transform's solve exact: one
+    // "iteration", and no matrix at all (the residual is computed from the stencil, as a check).
+    void solveEigen(const ResidualWeights& weights, Solution& x) {
+        const size_t N = image_.pixels();
+        const double alpha = settings_.alpha;
+        const bool exactCosine = solver_ == PoissonSolver::Cosine && weights.primal.empty();
+        if (!exactCosine) assembleNormalMatrix(image_.width, image_.height, alpha, weights, A_);
+        const ScreenedLaplacian op = solver_ == PoissonSolver::Cosine
+                                         ? harmonicWeightOperator(alpha, weights, image_.width, image_.height)
+                                         : ScreenedLaplacian{};
+        std::array<ConjugateGradientResult, 3> results;
+        arena_.execute([&] {
+            tbb::parallel_for(size_t(0), size_t(3), [&](size_t c) {
+                Eigen::VectorXd b;
+                normalRightHandSide(image_, c, alpha, weights, b);
+                Eigen::Map<Eigen::VectorXd> xc(x[c].data(), Eigen::Index(N));
+                if (exactCosine) {
+                    xc = b;
+                    transform_->solve(op, xc);
+                    results[c] = {1, normalResidual(image_.width, image_.height, alpha, weights, b, xc)};
+                } else if (solver_ == PoissonSolver::Cosine) {
+                    results[c] =
+                        solveNormalEquationsCosine(A_, b, *transform_, op, kEigenCgTolerance, maxLinearIterations_, xc);
+                } else {
+                    results[c] = solveNormalEquations(A_, b, kEigenCgTolerance, maxLinearIterations_, xc);
+                }
+            });
+        });
+        for (const auto& r : results) {
+            ++statistics_.solves;
+            ++statistics_.solverIterations;
+            statistics_.linearIterations += r.iterations;
+            statistics_.linearResidual = std::max(statistics_.linearResidual, r.relativeResidual);
+        }
+        done_ += 3;
+        if (progress_) progress_(done_, total_);
+    }
+
+    const GradientImage& image_;
+    const ReconstructSettings& settings_;
+    PoissonSolver solver_;
+    ReconstructStatistics& statistics_;
+    const ReconstructProgress& progress_;
+    int total_, done_ = 0, maxLinearIterations_ = 0;
+    std::optional<ChannelProblem> ceresProblem_;
+    ceres::Solver::Options options_;
+    std::optional<CosinePoisson> transform_;
+    NormalMatrix A_;
+    tbb::task_arena arena_;
+};
+
+// The image: the solution with the directly seen emitters added back.
+RgbPlanes developSolution(const GradientImage& image, const Solution& x) {
+    RgbPlanes out;
+    for (size_t c = 0; c < 3; ++c) {
+        out[c].resize(image.pixels());
+        for (size_t p = 0; p < image.pixels(); ++p) {
+            const double v = x[c][p] + (image.direct ? (*image.direct)[c][p] : 0.0f);
+            // Finite inputs and a positive alpha make the system positive definite, so this would be a
+            // solver bug; it must not reach a file as NaN or Inf.
+            if (!std::isfinite(float(v))) throw Error("reconstruction: the solver produced a non-finite value");
+            out[c][p] = float(v);
+        }
+    }
+    return out;
+}
+
 } // namespace
 
 std::string normName(ReconstructNorm norm) { return norm == ReconstructNorm::L2 ? "l2" : "l1"; }
@@ -271,137 +438,17 @@ file::Buffer reconstructScreenedPoisson(const GradientImage& image, const Recons
                                         ReconstructStatistics& statistics, const ReconstructProgress& progress) {
     checkSettings(settings);
     const auto start = std::chrono::steady_clock::now();
-    const bool l1 = settings.norm == ReconstructNorm::L1;
-    const size_t N = image.pixels();
-
     statistics = {};
     statistics.norm = normName(settings.norm);
     statistics.alpha = settings.alpha;
-    // The design card names Ceres, and it stays the solver of small images: exact, and its Problem is
-    // checked against an independent solve. For large ones its cost is the obstacle, not the method: at
-    // 1280x720 RGB (pipelines/bench/reconstruct.sh, 2 cores) Ceres CGNR took 36-39 s for L2 and 419-685 s
-    // for L1 at 0.95 KB per pixel, half of it in Ceres's block-sparse products (100-200 ms per CG step,
-    // single-threaded in Ceres 2.1) and 0.6-1 s of problem setup per solve. Eigen CG on the assembled
-    // 5-point matrix of the same normal equations: 18 ms per CG step (memory-bound: 64 bytes of matrix
-    // and ~19 vector passes per pixel), 2.8 s of solve for L2 on 2 threads, 9-15 s for L1 (depending on
-    // the load of the shared machine), 0.3 GB; 4K L2 30 s, 1.9 GB. Ceres's sparse Cholesky,
-    // 2 threads, L2 / L1: 0.07 / 1.3 s at 64x64, 0.34 / 7.4 s at 128x128, 2.4 / 45 s at 256x256
-    // (Eigen CG: 0.01 / 0.03, 0.04 / 0.10, 0.13 / 0.5 s), hence the threshold kCholeskyMaxPixels.
-    // Above it L2 goes to the cosine transform (dct_poisson.h): exact (relative residual ~1e-15) and
-    // O(N log N), 0.16-0.32 s of solve at 1280x720 on 2 threads (Eigen CG: 2.8-4.3 s to 1e-5), 0.2 GB,
-    // the whole bench run about 1 s; 4K 2.5 s of solve, 0.7 GB. L1 stays with Eigen CG: its IRLS
-    // weights change per pixel and by up to 1 / reg (1e7 at the last step), which no transform
-    // diagonalizes, and the transform-preconditioned CG measured no faster (kCosineL1Iterations).
-    PoissonSolver solver = settings.solver;
-    if (solver == PoissonSolver::Auto) {
-        const bool small = N <= kCholeskyMaxPixels;
-        solver = small ? PoissonSolver::SparseNormalCholesky : l1 ? PoissonSolver::EigenCg : PoissonSolver::Cosine;
-        statistics.solverReason = "auto: " + std::to_string(N) + (small ? " <= " : " > ") +
-                                  std::to_string(kCholeskyMaxPixels) + " pixels" +
-                                  (small ? "" : ", " + normName(settings.norm));
-    } else {
-        statistics.solverReason = "requested";
-    }
-    statistics.solverUsed = solver;
-    int maxLinearIterations = settings.maxLinearIterations;
-    if (maxLinearIterations == 0)
-        maxLinearIterations = !l1                                ? 500
-                              : solver == PoissonSolver::EigenCg ? kEigenCgL1Iterations
-                              : solver == PoissonSolver::Cosine  ? kCosineL1Iterations
-                                                                 : 50;
-
-    std::optional<ChannelProblem> ceresProblem;
-    ceres::Solver::Options options;
-    std::optional<CosinePoisson> transform;
-    if (solver == PoissonSolver::EigenCg) {
-        statistics.solver = "EIGEN_CG";
-    } else if (solver == PoissonSolver::Cosine) {
-        statistics.solver = "DCT";
-        transform.emplace(image.width, image.height);
-    } else {
-        options.linear_solver_type =
-            solver == PoissonSolver::SparseNormalCholesky ? ceres::SPARSE_NORMAL_CHOLESKY : ceres::CGNR;
-        options.preconditioner_type = ceres::JACOBI;
-        options.num_threads = settings.threads;
-        options.logging_type = ceres::SILENT;
-        // The problem is linear least squares: with an (effectively) unbounded trust region the first
-        // Levenberg-Marquardt step is the Gauss-Newton step, i.e. the solution of the normal equations
-        // (the screened Poisson equation), so one iteration suffices.
-        options.initial_trust_region_radius = 1e16;
-        options.max_trust_region_radius = 1e16;
-        options.max_num_iterations = 1;
-        // CGNR: GPT's presets cap the CG steps (L2Q 500, L1D 50 per reweighting step). eta, Ceres's
-        // threshold on the relative decrease of the quadratic model, is tight, so CG runs to its own
-        // convergence or the cap (1280x720, alpha 0.2: about 55 steps, the final cost of sparse Cholesky).
-        options.max_linear_solver_iterations = maxLinearIterations;
-        options.eta = 1e-10;
-        statistics.solver = ceres::LinearSolverTypeToString(options.linear_solver_type);
-        ceresProblem.emplace(image, settings.alpha);
-    }
+    statistics.solverUsed = chooseSolver(settings, image.pixels(), statistics);
+    ChannelSolver solver(image, settings, statistics.solverUsed, statistics, progress);
 
     // Warm start at the primal.
     Solution x;
     for (size_t c = 0; c < 3; ++c)
         x[c].assign(image.primal[c].begin(), image.primal[c].end());
     statistics.initialCost = objective(image, x, settings.alpha, settings.norm);
-
-    const int total = 3 * (l1 ? settings.irlsIterations : 1);
-    int done = 0;
-    ResidualWeights weights; // empty: L2
-    NormalMatrix A;
-    tbb::task_arena arena(settings.threads);
-    // One linear problem, all three channels, from the current x (the warm start) to its solution.
-    const auto solveChannels = [&] {
-        if (solver != PoissonSolver::EigenCg && solver != PoissonSolver::Cosine) {
-            ceresProblem->setWeights(weights);
-            for (size_t c = 0; c < 3; ++c) {
-                const ceres::Solver::Summary summary = ceresProblem->solve(c, x[c], options);
-                ++statistics.solves;
-                // summary.iterations starts with iteration 0, the evaluation at the starting point.
-                statistics.solverIterations += int(summary.iterations.size()) - 1;
-                for (const auto& it : summary.iterations)
-                    statistics.linearIterations += it.linear_solver_iterations;
-                if (progress) progress(++done, total);
-            }
-            return;
-        }
-        // The weights are shared by R, G and B, so one matrix (or one constant-weight operator) serves
-        // the three channels, solved in parallel (each CG is a chain of dependent mat-vecs, each cosine
-        // solve two transforms; three are the parallelism there is).
-        // Constant weights (L2) make the cosine transform's solve exact: one "iteration", and no matrix
-        // at all (the residual is computed from the stencil, as a check).
-        const bool exactCosine = solver == PoissonSolver::Cosine && weights.primal.empty();
-        if (!exactCosine) assembleNormalMatrix(image.width, image.height, settings.alpha, weights, A);
-        const ScreenedLaplacian op = solver == PoissonSolver::Cosine
-                                         ? harmonicWeightOperator(settings.alpha, weights, image.width, image.height)
-                                         : ScreenedLaplacian{};
-        std::array<ConjugateGradientResult, 3> results;
-        arena.execute([&] {
-            tbb::parallel_for(size_t(0), size_t(3), [&](size_t c) {
-                Eigen::VectorXd b;
-                normalRightHandSide(image, c, settings.alpha, weights, b);
-                Eigen::Map<Eigen::VectorXd> xc(x[c].data(), Eigen::Index(N));
-                if (exactCosine) {
-                    xc = b;
-                    transform->solve(op, xc);
-                    results[c] = {1, normalResidual(image.width, image.height, settings.alpha, weights, b, xc)};
-                } else if (solver == PoissonSolver::Cosine) {
-                    results[c] =
-                        solveNormalEquationsCosine(A, b, *transform, op, kEigenCgTolerance, maxLinearIterations, xc);
-                } else {
-                    results[c] = solveNormalEquations(A, b, kEigenCgTolerance, maxLinearIterations, xc);
-                }
-            });
-        });
-        for (const auto& r : results) {
-            ++statistics.solves;
-            ++statistics.solverIterations;
-            statistics.linearIterations += r.iterations;
-            statistics.linearResidual = std::max(statistics.linearResidual, r.relativeResidual);
-        }
-        done += 3;
-        if (progress) progress(done, total);
-    };
     // L1 reweights from the primal (the warm start above), not from the L2 solution: L2 spreads every
     // outlier gradient over its neighbourhood, and the first weights then trust the spread, not the
     // outlier. Measured on 32x32 with 1% of the gradients +-1e6 (noise 0.05 / 0.01), MSE against the
@@ -410,29 +457,19 @@ file::Buffer reconstructScreenedPoisson(const GradientImage& image, const Recons
     // the 1280x720 bench input (outliers 100) the same MSE (Eigen CG 1.55e-3 / 1.55e-3) and objective
     // (183039 / 183043). The primal's zero residuals get weight 1 / reg0 (20) against ~8 for a gradient
     // residual of the noise level, which does not pin the image to it.
-    if (!l1) {
-        solveChannels();
+    ResidualWeights weights; // empty: L2
+    if (settings.norm == ReconstructNorm::L2) {
+        solver.solve(weights, x);
     } else {
         double reg = settings.irlsRegularizer;
         for (int it = 0; it < settings.irlsIterations; ++it, reg *= settings.irlsDecay) {
             irlsWeights(image, x, settings.alpha, reg, weights);
-            solveChannels();
+            solver.solve(weights, x);
             ++statistics.irlsIterations;
         }
     }
     statistics.finalCost = objective(image, x, settings.alpha, settings.norm);
-
-    RgbPlanes out;
-    for (size_t c = 0; c < 3; ++c) {
-        out[c].resize(N);
-        for (size_t p = 0; p < N; ++p) {
-            const double v = x[c][p] + (image.direct ? (*image.direct)[c][p] : 0.0f);
-            // Finite inputs and a positive alpha make the system positive definite, so this would be a
-            // solver bug; it must not reach a file as NaN or Inf.
-            if (!std::isfinite(float(v))) throw Error("reconstruction: the solver produced a non-finite value");
-            out[c][p] = float(v);
-        }
-    }
+    RgbPlanes out = developSolution(image, x);
     statistics.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return rgbBuffer(image.width, image.height, std::move(out));
 }

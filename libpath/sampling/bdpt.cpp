@@ -4,7 +4,7 @@
 #include <utility>
 
 #include "bsdf/shading_correction.h"
-#include "math/error.h"
+#include "util/error.h"
 #include "path/scatter.h"
 #include "sampling/lens_sample.h"
 #include "sampling/mis.h"
@@ -64,8 +64,7 @@ private:
 } // namespace
 
 Bdpt::Bdpt(const Scene& scene, PathSettings settings) : scene_(scene), settings_(settings) {
-    if (settings_.maxDepth == 0 || settings_.maxDepth < -1)
-        throw Error("maxDepth must be -1 (unbounded) or at least 1");
+    settings_.check();
     // A path of maxDepth edges has maxDepth + 1 vertices: the camera subpath may supply all but the light
     // vertex, the light subpath all but the camera vertex.
     maxCameraVertices_ = settings_.maxDepth < 0 ? UnboundedVertices : size_t(settings_.maxDepth) + 1;
@@ -334,5 +333,15 @@ Spectrum Bdpt::sample(const Vec2& raster, SampleGenerator& sampler, std::vector<
     }
     return L;
 }
+
+const EstimatorKind Bdpt::Kind{
+    "bdpt",
+    "bidirectional path tracing: every (s,t) strategy, light tracing included, weighted by MIS",
+    {misOption()},
+    {},
+    [](const Scene& scene, const PathSettings& paths, const OptionValues& values) -> std::unique_ptr<PixelEstimator> {
+        return std::make_unique<Bdpt>(scene, withMis(paths, values));
+    },
+    {}};
 
 } // namespace lt

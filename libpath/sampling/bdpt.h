@@ -9,6 +9,7 @@
 #include "path/splat.h"
 #include "path/strategy_path.h"
 #include "path/vertex.h"
+#include "sampling/estimator_kind.h"
 #include "sampling/mis.h"
 #include "sampling/path_settings.h"
 #include "sampling/pixel_estimator.h"
@@ -18,6 +19,9 @@ namespace lt {
 
 class Bdpt final : public PixelEstimator {
 public:
+    // Its row of the estimator registry (run/estimator_registry.h).
+    static const EstimatorKind Kind;
+
     // Throws lt::Error if maxDepth is 0 or below -1.
     Bdpt(const Scene& scene, PathSettings settings);
 

@@ -5,6 +5,7 @@
 
 #include "math/spectrum.h"
 #include "sampling/mis.h"
+#include "util/error.h"
 
 namespace lt {
 
@@ -15,6 +16,11 @@ struct PathSettings {
     // BDPT, for tests: evaluate only this one strategy, unweighted (each strategy alone is unbiased for the
     // paths it can sample). -1 = all strategies with MIS.
     int onlyS = -1, onlyT = -1;
+
+    // Throws lt::Error for a bound that is neither -1 nor positive: every estimator checks its settings so.
+    void check() const {
+        if (maxDepth == 0 || maxDepth < -1) throw Error("maxDepth must be -1 (unbounded) or at least 1");
+    }
 };
 
 // Russian roulette survival probability from the throughput relative to the path's start (Mitsuba 0.5,

@@ -3,6 +3,7 @@
 // the same pixel measurement as Bdpt::sample (camera strategies only, no splats).
 #pragma once
 
+#include "sampling/estimator_kind.h"
 #include "sampling/path_settings.h"
 #include "sampling/pixel_estimator.h"
 
@@ -10,6 +11,9 @@ namespace lt {
 
 class PathTracer final : public PixelEstimator {
 public:
+    // Its row of the estimator registry (run/estimator_registry.h).
+    static const EstimatorKind Kind;
+
     PathTracer(const Scene& scene, PathSettings settings);
     [[nodiscard]] Spectrum sample(const Vec2& raster, SampleGenerator& sampler, SampleHealth& health) const;
     // As a pixel estimator: sample(); no splats, no further planes, no joined paths.

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "formats/records.h"
 #include "image/film.h"
 #include "math/spectrum.h"
 #include "math/vec.h"
@@ -77,6 +78,11 @@ public:
     [[nodiscard]] virtual int reuseTileSize() const { return 0; }
     // One sample for every pixel of the tile (only called when reuseTileSize() > 0).
     virtual void estimateTile(const TileSample& tile) const { (void)tile; }
+
+    // What the estimator counted over a run, as files store it, and as a few words for the user (the
+    // gradient-domain estimators: how their shifts ended); nothing by default.
+    [[nodiscard]] virtual std::vector<file::StatTable> statistics() const { return {}; }
+    [[nodiscard]] virtual std::string summary() const { return {}; }
 };
 
 } // namespace lt

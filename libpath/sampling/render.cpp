@@ -1,13 +1,9 @@
 #include "sampling/render.h"
 
-#include <oneapi/tbb/parallel_pipeline.h>
-#include <oneapi/tbb/task_arena.h>
+#include <algorithm>
 
-#include <memory>
-
-#include "math/error.h"
+#include "util/error.h"
 #include "path/path_record.h"
-#include "sampling/path_tracer.h"
 #include "sampling/sobol_sampler.h"
 
 namespace lt {
@@ -23,13 +19,97 @@ struct WorkItem {
     std::vector<file::PathRecord> candidates;
 };
 
-} // namespace
+// The work items of a pass: the film window cut into tiles, row after row. An estimator that works a tile at a
+// time has its own tile size, and the grid moves by a random offset every pass ([GDPR] Sec. 3.2, tile jitter):
+// a jittered grid needs one more tile per row and column to cover the window.
+class TileGrid {
+public:
+    TileGrid(const PixelRect& window, int reuse, int tileSize, uint64_t seed)
+        : window_(window), reuse_(reuse), size_(reuse > 0 ? reuse : std::max(1, tileSize)), seed_(seed) {
+        const int extra = reuse > 0 ? 1 : 0;
+        tilesX_ = (window.width() + size_ - 1) / size_ + extra;
+        tilesY_ = (window.height() + size_ - 1) / size_ + extra;
+    }
 
-std::unique_ptr<PixelEstimator> makePixelEstimator(PixelMethod method, const Scene& scene,
-                                                   const PathSettings& settings) {
-    if (method == PixelMethod::PathTracing) return std::make_unique<PathTracer>(scene, settings);
-    return std::make_unique<Bdpt>(scene, settings);
+    [[nodiscard]] uint64_t tilesPerPass() const { return uint64_t(tilesX_) * uint64_t(tilesY_); }
+
+    // The pixels of tile `tile` of pass `pass`, clipped to the window (empty where a jittered tile lies outside).
+    [[nodiscard]] PixelRect rect(uint64_t tile, uint64_t pass) const {
+        const int tx = int(tile % uint64_t(tilesX_)), ty = int(tile / uint64_t(tilesX_));
+        int ox = window_.x0, oy = window_.y0;
+        if (reuse_ > 0) { // the same grid offset for the whole pass
+            const uint64_t j = mixBits(seed_ ^ mixBits(pass + 1));
+            ox -= int(j % uint64_t(size_));
+            oy -= int((j >> 32) % uint64_t(size_));
+        }
+        PixelRect r{std::max(window_.x0, ox + tx * size_), std::max(window_.y0, oy + ty * size_),
+                    std::min(window_.x1, ox + (tx + 1) * size_), std::min(window_.y1, oy + (ty + 1) * size_)};
+        r.x1 = std::max(r.x0, r.x1);
+        r.y1 = std::max(r.y0, r.y1);
+        return r;
+    }
+
+private:
+    PixelRect window_;
+    int reuse_, size_;
+    uint64_t seed_;
+    int tilesX_ = 0, tilesY_ = 0;
+};
+
+// One work item: one sample per pixel of its tile, each pixel sample with its own random stream keyed by (seed,
+// pass, pixel), or the estimator's own work on the tile when it works a tile at a time. With `collect`, every
+// joined path becomes a candidate seed path of the item.
+void renderItem(const Scene& scene, const PixelEstimator& estimator, const RenderSettings& settings,
+                const SampleFilm& film, bool collect, WorkItem& item) {
+    TileResult& r = item.result; // a slot reused by later items: every field set anew
+    r.rect = item.rect;
+    r.sum.assign(r.rect.area() * 3, 0.0);
+    r.count.assign(r.rect.area(), 0);
+    r.splats.clear();
+    r.planeValues.clear();
+    r.lightPaths = 0;
+    item.health = {};
+    item.candidates.clear();
+    if (estimator.reuseTileSize() > 0) {
+        if (r.rect.area() > 0) estimator.estimateTile({r.rect, settings.seed, item.pass, r, item.health});
+        return;
+    }
+    std::vector<Splat> splats;
+    std::vector<PlaneValue> planeValues;
+    uint64_t pixel = 0;
+    const StrategyCallback onPath = [&](const StrategyPath& sp) {
+        item.candidates.push_back(seedCandidate(scene, film, sp, pixel, uint64_t(item.pass)));
+    };
+    // One pixel sample; generic over the sampler so that its calls need no dispatch here.
+    const auto estimatePixel = [&](int x, int y, auto& sampler) {
+        const Vec2 raster = film.sampleRaster(x, y, sampler.next2D());
+        splats.clear();
+        planeValues.clear();
+        PixelSample out{x, y, splats, planeValues, item.health, collect ? &onPath : nullptr};
+        const Spectrum L = estimator.estimate(raster, sampler, out);
+        r.splats.insert(r.splats.end(), splats.begin(), splats.end());
+        for (const auto& v : planeValues)
+            r.planeValues.push_back({v.plane, x + v.dx, y + v.dy, v.value});
+        if (estimator.tracesLightPaths()) ++r.lightPaths;
+        const size_t i = size_t(y - r.rect.y0) * size_t(r.rect.width()) + size_t(x - r.rect.x0);
+        for (int c = 0; c < 3; ++c)
+            r.sum[3 * i + size_t(c)] += L[c];
+        ++r.count[i];
+    };
+    for (int y = r.rect.y0; y < r.rect.y1; ++y)
+        for (int x = r.rect.x0; x < r.rect.x1; ++x) {
+            pixel = uint64_t(y) * uint64_t(scene.camera.film().width) + uint64_t(x);
+            if (settings.sampler == SamplerKind::Sobol) {
+                SobolSampler sampler(settings.seed, pixel, uint32_t(item.pass));
+                estimatePixel(x, y, sampler);
+            } else {
+                IndependentSampler sampler = pixelSampler(settings.seed, item.pass, pixel);
+                estimatePixel(x, y, sampler);
+            }
+        }
 }
+
+} // namespace
 
 IndependentSampler pixelSampler(uint64_t seed, int pass, uint64_t pixel) {
     // Initial state and stream both depend on the pixel: PCG streams that differ only in their increment
@@ -55,8 +135,7 @@ file::PathRecord seedCandidate(const Scene& scene, const SampleFilm& film, const
 }
 
 RenderStats render(const Scene& scene, const PixelEstimator& estimator, const RenderSettings& settings,
-                   SampleFilm& film, const RunProgressCallback& progress, const std::atomic<bool>* stop,
-                   SeedReservoir* seeds, const RunSnapshotCallback& snapshot) {
+                   SampleFilm& film, const RunControl& control, SeedReservoir* seeds) {
     if (settings.spp < 0 || (settings.spp == 0 && !(settings.timeLimit > 0)))
         throw Error("give a positive sample count or a time limit");
     if (film.planes() != estimator.planes())
@@ -65,147 +144,66 @@ RenderStats render(const Scene& scene, const PixelEstimator& estimator, const Re
     const int reuse = estimator.reuseTileSize();
     if (reuse > 0 && settings.sampler != SamplerKind::Independent)
         throw Error("an estimator that works a tile at a time draws its own independent numbers: no other sampler");
-    const int ts = reuse > 0 ? reuse : std::max(1, settings.tileSize);
-    // A jittered grid needs one more tile per row and column to cover the window.
-    const int extra = reuse > 0 ? 1 : 0;
-    const int tilesX = (window.width() + ts - 1) / ts + extra, tilesY = (window.height() + ts - 1) / ts + extra;
-    const uint64_t tilesPerPass = uint64_t(tilesX) * uint64_t(tilesY);
+    const TileGrid grid(window, reuse, settings.tileSize, settings.seed);
+    const uint64_t tilesPerPass = grid.tilesPerPass();
     const uint64_t maxPasses = settings.spp > 0 ? uint64_t(settings.spp) : UINT64_MAX;
     // A run ends at a pass's end when a pixel's value needs the whole pass (samples credit neighbours), and
     // when it collects seeds: their normalization b = total x pixels / samples (sampling/seed_reservoir.h)
     // estimates the image's integral only if every pixel has as many samples.
     const bool wholePasses = estimator.creditsNeighbours() || seeds != nullptr;
 
-    RunClock clock;
+    ParallelRun run(control);
     RenderStats stats;
     SnapshotSchedule schedule = settings.snapshots;
     const uint64_t totalSamples = settings.timeLimit > 0 ? 0 : maxPasses * window.area();
     uint64_t nextItem = 0;
     bool timeUp = false;
-    const int threads = settings.threads > 0 ? settings.threads : tbb::this_task_arena::max_concurrency();
-    tbb::task_arena arena(threads);
-    arena.execute([&] {
-        tbb::parallel_pipeline(
-            size_t(2 * threads + 2),
-            // 1. Issue work items in a fixed order: pass by pass, tile by tile.
-            tbb::make_filter<void, WorkItem*>(tbb::filter_mode::serial_in_order,
-                                              [&](tbb::flow_control& fc) -> WorkItem* {
-                                                  const uint64_t pass = nextItem / tilesPerPass;
-                                                  if ((stop && stop->load()) || pass >= maxPasses) {
-                                                      fc.stop();
-                                                      return nullptr;
-                                                  }
-                                                  // A time limit ends the run after the first pass: at
-                                                  // the next work item, or at the next pass boundary when
-                                                  // whole passes are needed (above).
-                                                  if (settings.timeLimit > 0 && pass > 0 &&
-                                                      (!wholePasses || nextItem % tilesPerPass == 0) &&
-                                                      clock.wallSeconds() >= settings.timeLimit) {
-                                                      timeUp = true;
-                                                      fc.stop();
-                                                      return nullptr;
-                                                  }
-                                                  auto* item = new WorkItem;
-                                                  item->index = nextItem;
-                                                  item->pass = int(pass);
-                                                  const uint64_t tile = nextItem % tilesPerPass;
-                                                  const int tx = int(tile % uint64_t(tilesX)),
-                                                            ty = int(tile / uint64_t(tilesX));
-                                                  int ox = window.x0, oy = window.y0;
-                                                  if (reuse > 0) { // the same grid offset for the whole pass
-                                                      const uint64_t j = mixBits(settings.seed ^ mixBits(pass + 1));
-                                                      ox -= int(j % uint64_t(ts));
-                                                      oy -= int((j >> 32) % uint64_t(ts));
-                                                  }
-                                                  item->rect = {std::max(window.x0, ox + tx * ts),
-                                                                std::max(window.y0, oy + ty * ts),
-                                                                std::min(window.x1, ox + (tx + 1) * ts),
-                                                                std::min(window.y1, oy + (ty + 1) * ts)};
-                                                  item->rect.x1 = std::max(item->rect.x0, item->rect.x1);
-                                                  item->rect.y1 = std::max(item->rect.y0, item->rect.y1);
-                                                  ++nextItem;
-                                                  return item;
-                                              }) &
-                // 2. Render an item: one sample per pixel of its tile, each pixel sample with its own
-                //    random stream keyed by (seed, pass, pixel).
-                tbb::make_filter<WorkItem*, WorkItem*>(
-                    tbb::filter_mode::parallel,
-                    [&](WorkItem* item) -> WorkItem* {
-                        TileResult& r = item->result;
-                        r.rect = item->rect;
-                        r.sum.assign(r.rect.area() * 3, 0.0);
-                        r.count.assign(r.rect.area(), 0);
-                        if (reuse > 0) {
-                            if (r.rect.area() > 0)
-                                estimator.estimateTile({r.rect, settings.seed, item->pass, r, item->health});
-                            EmbreeAccel::flushRayCount();
-                            return item;
-                        }
-                        std::vector<Splat> splats;
-                        std::vector<PlaneValue> planeValues;
-                        uint64_t pixel = 0;
-                        const StrategyCallback collect = [&](const StrategyPath& sp) {
-                            item->candidates.push_back(seedCandidate(scene, film, sp, pixel, uint64_t(item->pass)));
-                        };
-                        // One pixel sample; generic over the sampler so that its calls need no dispatch here.
-                        const auto estimatePixel = [&](int x, int y, auto& sampler) {
-                            const Vec2 raster = film.sampleRaster(x, y, sampler.next2D());
-                            splats.clear();
-                            planeValues.clear();
-                            PixelSample out{x, y, splats, planeValues, item->health, seeds ? &collect : nullptr};
-                            const Spectrum L = estimator.estimate(raster, sampler, out);
-                            r.splats.insert(r.splats.end(), splats.begin(), splats.end());
-                            for (const auto& v : planeValues)
-                                r.planeValues.push_back({v.plane, x + v.dx, y + v.dy, v.value});
-                            if (estimator.tracesLightPaths()) ++r.lightPaths;
-                            const size_t i = size_t(y - r.rect.y0) * size_t(r.rect.width()) + size_t(x - r.rect.x0);
-                            for (int c = 0; c < 3; ++c)
-                                r.sum[3 * i + size_t(c)] += L[c];
-                            ++r.count[i];
-                        };
-                        for (int y = r.rect.y0; y < r.rect.y1; ++y)
-                            for (int x = r.rect.x0; x < r.rect.x1; ++x) {
-                                pixel = uint64_t(y) * uint64_t(scene.camera.film().width) + uint64_t(x);
-                                if (settings.sampler == SamplerKind::Sobol) {
-                                    SobolSampler sampler(settings.seed, pixel, uint32_t(item->pass));
-                                    estimatePixel(x, y, sampler);
-                                } else {
-                                    IndependentSampler sampler = pixelSampler(settings.seed, item->pass, pixel);
-                                    estimatePixel(x, y, sampler);
-                                }
-                            }
-                        EmbreeAccel::flushRayCount();
-                        return item;
-                    }) &
-                // 3. Merge in issue order.
-                tbb::make_filter<WorkItem*, void>(tbb::filter_mode::serial_in_order, [&](WorkItem* item) {
-                    std::unique_ptr<WorkItem> owned(item);
-                    film.merge(item->result);
-                    if (seeds)
-                        for (const auto& c : item->candidates)
-                            seeds->add(c);
-                    stats.samples += item->result.rect.area();
-                    stats.health.nonFinite += item->health.nonFinite;
-                    const bool passEnd = (item->index + 1) % tilesPerPass == 0;
-                    if (passEnd) {
-                        film.endPass();
-                        ++stats.passes;
-                    }
-                    double fraction = -1;
-                    if (totalSamples > 0)
-                        fraction = double(stats.samples) / double(totalSamples);
-                    else if (settings.timeLimit > 0)
-                        fraction = std::min(1.0, clock.wallSeconds() / settings.timeLimit);
-                    RunProgress p = clock.progress("render", fraction, stats.samples, totalSamples);
-                    p.passesDone = stats.passes;
-                    if (passEnd && snapshot && schedule.due(p.wallSeconds, double(stats.passes)))
-                        clock.snapshot(
-                            snapshot, p, [&] { return film.toBuffer(); }, stats);
-                    if (progress) progress(p);
-                }));
-    });
-    clock.close(stats);
-    stats.interrupted = stop && stop->load() && !timeUp && uint64_t(stats.passes) < maxPasses;
+    run.ordered<WorkItem>(
+        // Work items in a fixed order: pass by pass, tile by tile.
+        [&](WorkItem& item) {
+            const uint64_t pass = nextItem / tilesPerPass;
+            if (run.stopped() || pass >= maxPasses) return false;
+            // A time limit ends the run after the first pass: at the next work item, or at the next pass
+            // boundary when whole passes are needed (above).
+            if (settings.timeLimit > 0 && pass > 0 && (!wholePasses || nextItem % tilesPerPass == 0) &&
+                run.elapsed() >= settings.timeLimit) {
+                timeUp = true;
+                return false;
+            }
+            item.index = nextItem;
+            item.pass = int(pass);
+            item.rect = grid.rect(nextItem % tilesPerPass, pass);
+            ++nextItem;
+            return true;
+        },
+        [&](WorkItem& item) { renderItem(scene, estimator, settings, film, seeds != nullptr, item); },
+        // Merged in issue order.
+        [&](WorkItem& item) {
+            film.merge(item.result);
+            if (seeds)
+                for (const auto& c : item.candidates)
+                    seeds->add(c);
+            stats.samples += item.result.rect.area();
+            stats.health.nonFinite += item.health.nonFinite;
+            const bool passEnd = (item.index + 1) % tilesPerPass == 0;
+            if (passEnd) {
+                film.endPass();
+                ++stats.passes;
+            }
+            double fraction = -1;
+            if (totalSamples > 0)
+                fraction = double(stats.samples) / double(totalSamples);
+            else if (settings.timeLimit > 0)
+                fraction = std::min(1.0, run.elapsed() / settings.timeLimit);
+            RunProgress p = run.clock().progress("render", fraction, stats.samples, totalSamples);
+            p.passesDone = stats.passes;
+            if (passEnd && run.snapshots() && schedule.due(p.wallSeconds, double(stats.passes)))
+                run.snapshot(
+                    p, [&] { return film.toBuffer(); }, stats);
+            run.report(p);
+        });
+    run.clock().close(stats);
+    stats.interrupted = run.stopped() && !timeUp && uint64_t(stats.passes) < maxPasses;
     return stats;
 }
 

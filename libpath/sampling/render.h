@@ -1,26 +1,21 @@
 // The render loop of every pixel estimator (sampling/pixel_estimator.h: BDPT, path tracing, ...):
 // tiles x sample passes as work items, rendered in parallel and merged into the film strictly in item
-// order (TBB parallel_pipeline with serial in-order stages), so that a given seed and sample count give a
-// bit-identical film whatever the number of threads. It stops at the sample count, at the time limit (after
+// order (sampling/parallel_run.h), so that a given seed and sample count give a bit-identical film whatever
+// the number of threads. It stops at the sample count, at the time limit (after
 // the first pass, with the work items under way; at a pass's end for estimators whose samples credit
-// neighbours and for runs that collect seeds), or when `stop` becomes true (Ctrl-C), and the film then holds every merged item: a valid,
-// normalized, if noisier, result. Its clock, progress and snapshots are those of every run (sampling/run_clock.h).
+// neighbours and for runs that collect seeds), or when `stop` becomes true (Ctrl-C), and the film then holds every
+// merged item: a valid, normalized, if noisier, result. Its clock, progress and snapshots are those of every run
+// (sampling/run_clock.h).
 #pragma once
-
-#include <atomic>
-#include <functional>
-#include <memory>
 
 #include "image/film.h"
 #include "image/snapshot_schedule.h"
 #include "sampling/bdpt.h"
+#include "sampling/parallel_run.h"
 #include "sampling/pixel_estimator.h"
-#include "sampling/run_clock.h"
 #include "sampling/seed_reservoir.h"
 
 namespace lt {
-
-enum class PixelMethod { Bdpt, PathTracing };
 
 // Where a pixel sample's random numbers come from: independent uniform numbers (PCG32), or padded
 // Owen-scrambled Sobol' points stratified over the pixel's samples (sampling/sobol_sampler.h).
@@ -30,7 +25,6 @@ struct RenderSettings {
     PathSettings paths;   // path length, Russian roulette and MIS of the estimator
     int spp = 16;         // samples per pixel (with timeLimit: an upper bound, 0 = none)
     double timeLimit = 0; // seconds; 0 = render exactly spp samples per pixel
-    int threads = 0;      // 0 = all cores
     uint64_t seed = 0;
     SamplerKind sampler = SamplerKind::Independent; // estimators that work a tile at a time take Independent only
     int tileSize = 32;          // ignored by estimators with their own tiles (PixelEstimator::reuseTileSize)
@@ -41,10 +35,6 @@ struct RenderStats : RunRecord {
     uint64_t samples = 0;
     int passes = 0; // complete passes merged
 };
-
-// The estimator `method` names, for a scene and the path settings.
-[[nodiscard]] std::unique_ptr<PixelEstimator> makePixelEstimator(PixelMethod method, const Scene& scene,
-                                                                 const PathSettings& settings);
 
 // The random numbers of one pixel's sample in one pass (pixel: y * film width + x, full film): the render
 // loop's, and those of estimators that work a tile at a time.
@@ -62,9 +52,8 @@ struct RenderStats : RunRecord {
 
 // Renders `estimator` into `film`, which must have been made with the estimator's planes(). With `seeds`, every joined
 // path the estimator forms becomes a candidate seed path (path/path_record.h) offered to the reservoir in work-item
-// order, so the kept draws, too, do not depend on the thread count. `snapshot` is called at pass boundaries when
+// order, so the kept draws, too, do not depend on the thread count. Snapshots are taken at pass boundaries when
 // settings.snapshots says so.
 RenderStats render(const Scene& scene, const PixelEstimator& estimator, const RenderSettings& settings,
-                   SampleFilm& film, const RunProgressCallback& progress, const std::atomic<bool>* stop,
-                   SeedReservoir* seeds = nullptr, const RunSnapshotCallback& snapshot = {});
+                   SampleFilm& film, const RunControl& control, SeedReservoir* seeds = nullptr);
 } // namespace lt

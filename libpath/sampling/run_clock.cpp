@@ -2,6 +2,7 @@
 
 #include <ctime>
 
+#include "formats/ltfile.h"
 #include "scene/accel.h"
 
 namespace lt {
@@ -39,6 +40,17 @@ void RunClock::snapshot(const RunSnapshotCallback& write, const RunProgress& pro
     write(progress, develop());
     ++record.snapshots;
     snapshotSeconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+file::StatTable runTable(const RunRecord& record, std::vector<std::pair<std::string, double>> rows) {
+    rows.insert(rows.end(), {{"wall_seconds", record.wallSeconds},
+                             {"cpu_seconds", record.cpuSeconds},
+                             {"rays", double(record.rays)},
+                             {"nonfinite_dropped", double(record.health.nonFinite)},
+                             {"interrupted", record.interrupted ? 1.0 : 0.0},
+                             {"snapshots", double(record.snapshots)},
+                             {"snapshot_seconds", record.snapshotSeconds}});
+    return file::valueTable("run", rows);
 }
 
 void RunClock::close(RunRecord& record) const {

@@ -12,6 +12,9 @@
 #include <cstdint>
 #include <functional>
 #include <optional>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "formats/records.h"
 #include "path/sample_health.h"
@@ -43,6 +46,10 @@ struct RunRecord {
     int snapshots = 0;
     double snapshotSeconds = 0;
 };
+
+// The "run" STAT table of a run's output (formats/SPEC.md): `rows`, what this kind of run counted (samples,
+// mutations, ...), then what every run records: its times, rays, dropped samples, interruption and snapshots.
+[[nodiscard]] file::StatTable runTable(const RunRecord& record, std::vector<std::pair<std::string, double>> rows);
 
 class RunClock {
 public:

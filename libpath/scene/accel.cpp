@@ -6,7 +6,7 @@
 #include <cstring>
 #include <string>
 
-#include "math/error.h"
+#include "util/error.h"
 
 namespace lt {
 

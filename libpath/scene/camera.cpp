@@ -3,7 +3,7 @@
 #include <cmath>
 
 #include "math/constants.h"
-#include "math/error.h"
+#include "util/error.h"
 #include "math/numeric.h"
 #include "math/rigid.h"
 #include "math/warp.h"

@@ -4,7 +4,7 @@
 #include <sstream>
 #include <string>
 
-#include "math/error.h"
+#include "util/error.h"
 #include "scene/mesh.h"
 
 namespace lt {

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <map>
 
-#include "math/error.h"
+#include "util/error.h"
 
 namespace lt {
 

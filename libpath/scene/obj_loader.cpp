@@ -17,7 +17,7 @@
 #include <system_error>
 #include <unordered_map>
 
-#include "math/error.h"
+#include "util/error.h"
 #include "scene/mesh.h"
 
 namespace lt {

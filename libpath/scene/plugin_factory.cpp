@@ -16,7 +16,7 @@
 #include "bsdf/thindielectric.h"
 #include "bsdf/twosided.h"
 #include "bsdf/ward.h"
-#include "math/error.h"
+#include "util/error.h"
 
 namespace lt {
 
@@ -180,153 +180,162 @@ std::shared_ptr<const Bsdf> PluginFactory::bsdf(const SceneObject& o) {
     if (auto it = bsdfs_.find(o.declaration()); it != bsdfs_.end()) return it->second;
     std::shared_ptr<const Bsdf> b;
     try {
-        if (o.type == "diffuse") {
-            // Mitsuba 0.6 also takes the reflectance as diffuseReflectance.
-            const bool alias = o.has("diffuseReflectance") || o.namedChild("diffuseReflectance");
-            b = std::make_shared<Diffuse>(
-                DiffuseParams{textureParam(o, alias ? "diffuseReflectance" : "reflectance", Spectrum(0.5))});
-            finish(o);
-        } else if (o.type == "twosided") {
-            const auto nested = o.childrenWithTag("bsdf");
-            if (nested.empty() || nested.size() > 2) o.fail("twosided takes one or two nested BSDFs");
-            TwoSidedParams p;
-            p.front = nestedBsdf(o, *nested[0]);
-            if (nested.size() == 2) p.back = nestedBsdf(o, *nested[1]);
-            b = std::make_shared<TwoSided>(p);
-            finish(o);
-        } else if (o.type == "dielectric") {
-            DielectricParams p;
-            p.intIOR = ior(o, "intIOR", p.intIOR);
-            p.extIOR = ior(o, "extIOR", p.extIOR);
-            p.specularReflectance = textureParam(o, "specularReflectance", Spectrum(1.0));
-            p.specularTransmittance = textureParam(o, "specularTransmittance", Spectrum(1.0));
-            b = std::make_shared<Dielectric>(p);
-            finish(o);
-        } else if (o.type == "thindielectric") {
-            ThinDielectricParams p;
-            p.intIOR = ior(o, "intIOR", p.intIOR);
-            p.extIOR = ior(o, "extIOR", p.extIOR);
-            p.specularReflectance = textureParam(o, "specularReflectance", Spectrum(1.0));
-            p.specularTransmittance = textureParam(o, "specularTransmittance", Spectrum(1.0));
-            b = std::make_shared<ThinDielectric>(p);
-            finish(o);
-        } else if (o.type == "roughdielectric") {
-            RoughDielectricParams p;
-            p.distribution = distribution(o);
-            roughness(o, p.alphaU, p.alphaV);
-            p.intIOR = ior(o, "intIOR", p.intIOR);
-            p.extIOR = ior(o, "extIOR", p.extIOR);
-            p.specularReflectance = textureParam(o, "specularReflectance", Spectrum(1.0));
-            p.specularTransmittance = textureParam(o, "specularTransmittance", Spectrum(1.0));
-            b = std::make_shared<RoughDielectric>(p);
-            finish(o, {"sampleVisible"});
-        } else if (o.type == "conductor") {
-            ConductorParams p;
-            conductorIor(o, p.eta, p.k);
-            p.extEta = ior(o, "extEta", p.extEta);
-            p.specularReflectance = textureParam(o, "specularReflectance", Spectrum(1.0));
-            b = std::make_shared<Conductor>(p);
-            finish(o);
-        } else if (o.type == "roughconductor") {
-            RoughConductorParams p;
-            p.distribution = distribution(o);
-            roughness(o, p.alphaU, p.alphaV);
-            conductorIor(o, p.eta, p.k);
-            p.extEta = ior(o, "extEta", p.extEta);
-            p.specularReflectance = textureParam(o, "specularReflectance", Spectrum(1.0));
-            b = std::make_shared<RoughConductor>(p);
-            finish(o, {"sampleVisible"});
-        } else if (o.type == "plastic") {
-            PlasticParams p;
-            p.intIOR = ior(o, "intIOR", p.intIOR);
-            p.extIOR = ior(o, "extIOR", p.extIOR);
-            p.diffuseReflectance = textureParam(o, "diffuseReflectance", Spectrum(0.5));
-            p.specularReflectance = textureParam(o, "specularReflectance", Spectrum(1.0));
-            p.nonlinear = o.getBoolean("nonlinear", false);
-            b = std::make_shared<Plastic>(p);
-            finish(o);
-        } else if (o.type == "roughplastic") {
-            RoughPlasticParams p;
-            p.distribution = distribution(o);
-            double au = 0.1, av = 0.1;
-            roughness(o, au, av);
-            if (au != av) o.fail("roughplastic is isotropic: give alpha, not alphaU/alphaV");
-            p.alpha = au;
-            p.intIOR = ior(o, "intIOR", p.intIOR);
-            p.extIOR = ior(o, "extIOR", p.extIOR);
-            p.diffuseReflectance = textureParam(o, "diffuseReflectance", Spectrum(0.5));
-            p.specularReflectance = textureParam(o, "specularReflectance", Spectrum(1.0));
-            p.nonlinear = o.getBoolean("nonlinear", false);
-            b = std::make_shared<RoughPlastic>(p);
-            finish(o, {"sampleVisible"});
-        } else if (o.type == "blendbsdf") {
-            const auto nested = o.childrenWithTag("bsdf");
-            if (nested.size() != 2) o.fail("blendbsdf takes two nested BSDFs");
-            BlendParams p;
-            p.weight = textureParam(o, "weight", Spectrum(0.5));
-            p.first = nestedBsdf(o, *nested[0]);
-            p.second = nestedBsdf(o, *nested[1]);
-            b = std::make_shared<BlendBsdf>(p);
-            finish(o);
-        } else if (o.type == "bumpmap") {
-            const auto nested = o.childrenWithTag("bsdf");
-            const auto textures = o.childrenWithTag("texture");
-            if (nested.size() != 1 || textures.size() != 1)
-                o.fail("bumpmap takes one displacement texture and one nested BSDF");
-            consumed_.insert({&o, textures[0].get()});
-            std::shared_ptr<const Texture> displacement = texture(*textures[0]);
-            // Mitsuba 3's bumpmap scales the displacement (`scale`, default 1); 0.6's has no such option.
-            if (o.has("scale"))
-                displacement = std::make_shared<ScaledTexture>(displacement, Spectrum(o.getFloat("scale")));
-            b = std::make_shared<BumpMappedBsdf>(displacement, nestedBsdf(o, *nested[0]));
-            finish(o);
-        } else if (o.type == "mask") {
-            const auto nested = o.childrenWithTag("bsdf");
-            if (nested.size() != 1) o.fail("mask takes one nested BSDF");
-            MaskParams p;
-            p.opacity = textureParam(o, "opacity", Spectrum(0.5));
-            p.nested = nestedBsdf(o, *nested[0]);
-            b = std::make_shared<MaskBsdf>(p);
-            finish(o);
-        } else if (o.type == "phong") {
-            PhongParams p;
-            p.exponent = textureParam(o, "exponent", Spectrum(30.0));
-            p.reflectances = glossyDiffuse(o);
-            const auto phong = std::make_shared<Phong>(p);
-            noteEnergyScale(o, *phong);
-            b = phong;
-            finish(o);
-        } else if (o.type == "ward") {
-            WardParams p;
-            const std::string variant = o.getString("variant", "balanced");
-            if (variant == "ward")
-                p.variant = WardVariant::Ward;
-            else if (variant == "ward-duer")
-                p.variant = WardVariant::WardDuer;
-            else if (variant == "balanced")
-                p.variant = WardVariant::Balanced;
-            else
-                o.fail("variant must be ward, ward-duer or balanced, not '" + variant + "'");
-            // Mitsuba's ward: alphaU and alphaV each default to alpha (0.1); any of the three may be a texture.
-            const auto alpha = textureParam(o, "alpha", Spectrum(0.1));
-            const auto given = [&](const char* key) { return o.has(key) || o.namedChild(key) != nullptr; };
-            p.alphaU = given("alphaU") ? textureParam(o, "alphaU", Spectrum(0.1)) : alpha;
-            p.alphaV = given("alphaV") ? textureParam(o, "alphaV", Spectrum(0.1)) : alpha;
-            p.reflectances = glossyDiffuse(o);
-            const auto ward = std::make_shared<Ward>(p);
-            noteEnergyScale(o, *ward);
-            b = ward;
-            finish(o);
-        } else {
+        b = interfaceBsdf(o);
+        if (!b) b = layeredBsdf(o);
+        if (!b) b = diffuseBsdf(o);
+        if (!b)
             o.fail("unknown BSDF type (lt reads diffuse, twosided, dielectric, thindielectric, roughdielectric, "
                    "conductor, roughconductor, plastic, roughplastic, phong, ward, blendbsdf, mask, bumpmap)");
-        }
     } catch (const Error& e) {
         const std::string what = e.what();
         if (what.find(o.file + ':') == 0) throw;
         o.fail(what);
     }
     bsdfs_[o.declaration()] = b;
+    return b;
+}
+
+void PluginFactory::dielectricParams(const SceneObject& o, DielectricParams& p) {
+    p.intIOR = ior(o, "intIOR", p.intIOR);
+    p.extIOR = ior(o, "extIOR", p.extIOR);
+    p.specularReflectance = textureParam(o, "specularReflectance", Spectrum(1.0));
+    p.specularTransmittance = textureParam(o, "specularTransmittance", Spectrum(1.0));
+}
+
+std::shared_ptr<const Bsdf> PluginFactory::interfaceBsdf(const SceneObject& o) {
+    std::shared_ptr<const Bsdf> b;
+    if (o.type == "dielectric" || o.type == "thindielectric") {
+        DielectricParams p;
+        dielectricParams(o, p);
+        if (o.type == "dielectric")
+            b = std::make_shared<Dielectric>(p);
+        else
+            b = std::make_shared<ThinDielectric>(p);
+        finish(o);
+    } else if (o.type == "roughdielectric") {
+        RoughDielectricParams p;
+        p.distribution = distribution(o);
+        roughness(o, p.alphaU, p.alphaV);
+        dielectricParams(o, p);
+        b = std::make_shared<RoughDielectric>(p);
+        finish(o, {"sampleVisible"});
+    } else if (o.type == "conductor" || o.type == "roughconductor") {
+        RoughConductorParams p;
+        const bool rough = o.type == "roughconductor";
+        if (rough) {
+            p.distribution = distribution(o);
+            roughness(o, p.alphaU, p.alphaV);
+        }
+        conductorIor(o, p.eta, p.k);
+        p.extEta = ior(o, "extEta", p.extEta);
+        p.specularReflectance = textureParam(o, "specularReflectance", Spectrum(1.0));
+        if (rough)
+            b = std::make_shared<RoughConductor>(p);
+        else
+            b = std::make_shared<Conductor>(static_cast<const ConductorParams&>(p));
+        finish(o, rough ? std::set<std::string>{"sampleVisible"} : std::set<std::string>{});
+    } else if (o.type == "plastic" || o.type == "roughplastic") {
+        b = plasticBsdf(o);
+    }
+    return b;
+}
+
+std::shared_ptr<const Bsdf> PluginFactory::plasticBsdf(const SceneObject& o) {
+    const bool rough = o.type == "roughplastic";
+    RoughPlasticParams p;
+    if (rough) {
+        p.distribution = distribution(o);
+        double au = 0.1, av = 0.1;
+        roughness(o, au, av);
+        if (au != av) o.fail("roughplastic is isotropic: give alpha, not alphaU/alphaV");
+        p.alpha = au;
+    }
+    p.intIOR = ior(o, "intIOR", p.intIOR);
+    p.extIOR = ior(o, "extIOR", p.extIOR);
+    p.diffuseReflectance = textureParam(o, "diffuseReflectance", Spectrum(0.5));
+    p.specularReflectance = textureParam(o, "specularReflectance", Spectrum(1.0));
+    p.nonlinear = o.getBoolean("nonlinear", false);
+    std::shared_ptr<const Bsdf> b;
+    if (rough)
+        b = std::make_shared<RoughPlastic>(p);
+    else
+        b = std::make_shared<Plastic>(static_cast<const PlasticParams&>(p));
+    finish(o, rough ? std::set<std::string>{"sampleVisible"} : std::set<std::string>{});
+    return b;
+}
+
+std::shared_ptr<const Bsdf> PluginFactory::layeredBsdf(const SceneObject& o) {
+    std::shared_ptr<const Bsdf> b;
+    const auto nested = o.childrenWithTag("bsdf");
+    if (o.type == "twosided") {
+        if (nested.empty() || nested.size() > 2) o.fail("twosided takes one or two nested BSDFs");
+        TwoSidedParams p;
+        p.front = nestedBsdf(o, *nested[0]);
+        if (nested.size() == 2) p.back = nestedBsdf(o, *nested[1]);
+        b = std::make_shared<TwoSided>(p);
+    } else if (o.type == "blendbsdf") {
+        if (nested.size() != 2) o.fail("blendbsdf takes two nested BSDFs");
+        BlendParams p;
+        p.weight = textureParam(o, "weight", Spectrum(0.5));
+        p.first = nestedBsdf(o, *nested[0]);
+        p.second = nestedBsdf(o, *nested[1]);
+        b = std::make_shared<BlendBsdf>(p);
+    } else if (o.type == "bumpmap") {
+        const auto textures = o.childrenWithTag("texture");
+        if (nested.size() != 1 || textures.size() != 1)
+            o.fail("bumpmap takes one displacement texture and one nested BSDF");
+        consumed_.insert({&o, textures[0].get()});
+        std::shared_ptr<const Texture> displacement = texture(*textures[0]);
+        // Mitsuba 3's bumpmap scales the displacement (`scale`, default 1); 0.6's has no such option.
+        if (o.has("scale")) displacement = std::make_shared<ScaledTexture>(displacement, Spectrum(o.getFloat("scale")));
+        b = std::make_shared<BumpMappedBsdf>(displacement, nestedBsdf(o, *nested[0]));
+    } else if (o.type == "mask") {
+        if (nested.size() != 1) o.fail("mask takes one nested BSDF");
+        MaskParams p;
+        p.opacity = textureParam(o, "opacity", Spectrum(0.5));
+        p.nested = nestedBsdf(o, *nested[0]);
+        b = std::make_shared<MaskBsdf>(p);
+    }
+    if (b) finish(o);
+    return b;
+}
+
+std::shared_ptr<const Bsdf> PluginFactory::diffuseBsdf(const SceneObject& o) {
+    std::shared_ptr<const Bsdf> b;
+    if (o.type == "diffuse") {
+        // Mitsuba 0.6 also takes the reflectance as diffuseReflectance.
+        const bool alias = o.has("diffuseReflectance") || o.namedChild("diffuseReflectance");
+        b = std::make_shared<Diffuse>(
+            DiffuseParams{textureParam(o, alias ? "diffuseReflectance" : "reflectance", Spectrum(0.5))});
+    } else if (o.type == "phong") {
+        PhongParams p;
+        p.exponent = textureParam(o, "exponent", Spectrum(30.0));
+        p.reflectances = glossyDiffuse(o);
+        const auto phong = std::make_shared<Phong>(p);
+        noteEnergyScale(o, *phong);
+        b = phong;
+    } else if (o.type == "ward") {
+        WardParams p;
+        const std::string variant = o.getString("variant", "balanced");
+        if (variant == "ward")
+            p.variant = WardVariant::Ward;
+        else if (variant == "ward-duer")
+            p.variant = WardVariant::WardDuer;
+        else if (variant == "balanced")
+            p.variant = WardVariant::Balanced;
+        else
+            o.fail("variant must be ward, ward-duer or balanced, not '" + variant + "'");
+        // Mitsuba's ward: alphaU and alphaV each default to alpha (0.1); any of the three may be a texture.
+        const auto alpha = textureParam(o, "alpha", Spectrum(0.1));
+        const auto given = [&](const char* key) { return o.has(key) || o.namedChild(key) != nullptr; };
+        p.alphaU = given("alphaU") ? textureParam(o, "alphaU", Spectrum(0.1)) : alpha;
+        p.alphaV = given("alphaV") ? textureParam(o, "alphaV", Spectrum(0.1)) : alpha;
+        p.reflectances = glossyDiffuse(o);
+        const auto ward = std::make_shared<Ward>(p);
+        noteEnergyScale(o, *ward);
+        b = ward;
+    }
+    if (b) finish(o);
     return b;
 }
 

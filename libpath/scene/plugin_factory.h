@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "bsdf/bsdf.h"
+#include "bsdf/dielectric_params.h"
 #include "bsdf/glossy_diffuse.h"
 #include "scene/scene_object.h"
 #include "texture/texture.h"
@@ -38,6 +39,15 @@ public:
     std::vector<std::string> warnings;
 
 private:
+    // The BSDFs of one family each (nothing for another type): the interfaces (dielectric, thindielectric,
+    // roughdielectric, conductor, roughconductor, plastic, roughplastic), those made of nested BSDFs (twosided,
+    // blendbsdf, bumpmap, mask), and the diffuse and glossy-diffuse ones (diffuse, phong, ward).
+    [[nodiscard]] std::shared_ptr<const Bsdf> interfaceBsdf(const SceneObject& o);
+    [[nodiscard]] std::shared_ptr<const Bsdf> plasticBsdf(const SceneObject& o);
+    [[nodiscard]] std::shared_ptr<const Bsdf> layeredBsdf(const SceneObject& o);
+    [[nodiscard]] std::shared_ptr<const Bsdf> diffuseBsdf(const SceneObject& o);
+    // The parameters every dielectric interface takes.
+    void dielectricParams(const SceneObject& o, DielectricParams& p);
     // An index of refraction given as a number or a name ("bk7", "air", ...).
     [[nodiscard]] double ior(const SceneObject& o, const std::string& key, double def);
     // A BSDF nested in (or referenced by) `parent`, recorded as consumed by it.

@@ -17,7 +17,7 @@
 #include <string_view>
 #include <system_error>
 
-#include "math/error.h"
+#include "util/error.h"
 #include "scene/mesh.h"
 
 namespace lt {

@@ -8,8 +8,8 @@
 #include <set>
 
 #include "math/constants.h"
-#include "math/error.h"
-#include "math/number_text.h"
+#include "util/error.h"
+#include "util/number_text.h"
 #include "bsdf/bump_mapped.h"
 #include "scene/emitters/sun_position.h"
 #include "scene/emitters/sun_sky.h"

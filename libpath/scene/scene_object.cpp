@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <sstream>
 
-#include "math/error.h"
+#include "util/error.h"
 
 namespace lt {
 

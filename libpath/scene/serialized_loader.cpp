@@ -19,8 +19,8 @@
 #include <fstream>
 #include <system_error>
 
-#include "math/error.h"
-#include "math/memory_budget.h"
+#include "util/error.h"
+#include "util/memory_budget.h"
 #include "scene/mesh.h"
 
 namespace lt {

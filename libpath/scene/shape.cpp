@@ -5,7 +5,7 @@
 #include <utility>
 
 #include "math/constants.h"
-#include "math/error.h"
+#include "util/error.h"
 #include "math/numeric.h"
 #include "math/warp.h"
 #include "scene/bump_frame.h"

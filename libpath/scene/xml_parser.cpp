@@ -10,8 +10,8 @@
 #include <fstream>
 #include <sstream>
 
-#include "math/error.h"
-#include "math/number_text.h"
+#include "util/error.h"
+#include "util/number_text.h"
 #include "scene/missing_file.h"
 #include "scene/mitsuba3_syntax.h"
 #include "scene/scene_object.h"

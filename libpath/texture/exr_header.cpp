@@ -5,9 +5,9 @@
 #include <array>
 #include <fstream>
 
-#include "math/error.h"
-#include "math/memory_budget.h"
-#include "math/one_line.h"
+#include "util/error.h"
+#include "util/memory_budget.h"
+#include "util/one_line.h"
 
 namespace lt {
 

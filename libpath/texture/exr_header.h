@@ -28,7 +28,7 @@ struct ExrPartLayout {
 // Whether the file starts with the EXR magic number (76 2f 31 01); false if it cannot be read.
 [[nodiscard]] bool isExrFile(const std::string& path);
 
-// Throws lt::Error unless reading the EXR at `path` fits in memory (math/memory_budget.h): the parts that share
+// Throws lt::Error unless reading the EXR at `path` fits in memory (util/memory_budget.h): the parts that share
 // the first part's data window as float planes (what image/image_io.h readExr keeps), and every part's offset
 // table.
 void requireExrMemory(const std::string& path);

@@ -6,7 +6,7 @@
 #include <cstdlib>
 #include <filesystem>
 
-#include "math/error.h"
+#include "util/error.h"
 #include "texture/exr_header.h"
 
 namespace lt {

@@ -7,7 +7,7 @@
 #include <exception>
 #include <type_traits>
 
-#include "math/one_line.h"
+#include "util/one_line.h"
 #include "texture/image_file.h"
 
 namespace {

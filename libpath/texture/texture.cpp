@@ -12,7 +12,7 @@
 #include <cctype>
 #include <cmath>
 
-#include "math/error.h"
+#include "util/error.h"
 #include "texture/image_file.h"
 #include "texture/texture.h"
 

@@ -14,10 +14,11 @@ check "no file refers to a document or data outside the repository" \
 check "the three public scenes are in scenes/ with their licences and references" \
   'for s in cornell-box veach-mis veach-bidir; do [ -f scenes/$s/scene.xml ] && [ -f scenes/$s/LICENSE.txt ] && [ -f scenes/$s/reference.exr ] || exit 1; done'
 
-# Layer ranks, bottom to top; a folder may include its own rank or below. formats/ (the file format)
-# needs only math/ (lt::Error) and is needed by any layer.
-declare -A rank=([math]=0 [texture]=1 [bsdf]=2 [scene]=3 [path]=4 [image]=5 [sampling]=6
-                 [manifold]=7 [reconstruct]=7 [gradient]=7 [mcmc]=8)
+# Layer ranks, bottom to top; a folder may include its own folder or a lower rank, never a sibling of its own rank
+# (mcmc/ and gradient/ are siblings: gradient-domain MLT, which needs both, is gdmlt/ above them). formats/ (the file
+# format) needs only util/ (lt::Error, temporary outputs) and is needed by any layer.
+declare -A rank=([util]=0 [math]=1 [texture]=2 [bsdf]=3 [scene]=4 [path]=5 [image]=6 [sampling]=7
+                 [manifold]=8 [reconstruct]=8 [gradient]=9 [mcmc]=9 [gdmlt]=10 [run]=11)
 layers_ok() {
   local ok=0 f dir inc
   while IFS=: read -r f inc; do
@@ -30,8 +31,8 @@ layers_ok() {
       echo "  $f includes $inc/: an upward or sideways include"; ok=1
     fi
   done < <(grep -rHo -E '^#include "[a-z_]+/' libpath --include='*.h' --include='*.cpp')
-  if grep -rH -E '^#include "[a-z_]+/' formats --include='*.h' --include='*.cpp' | grep -v -E '"(formats|math)/'; then
-    echo "  formats/ includes more of libpath than math/"; ok=1
+  if grep -rH -E '^#include "[a-z_]+/' formats --include='*.h' --include='*.cpp' | grep -v -E '"(formats|util)/'; then
+    echo "  formats/ includes more of libpath than util/"; ok=1
   fi
   return $ok
 }

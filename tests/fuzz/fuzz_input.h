@@ -12,11 +12,11 @@
 #include <string>
 #include <zlib.h>
 
-#include "math/error.h"
+#include "util/error.h"
 
 namespace lt::fuzz {
 
-// Allocations the readers check against the memory available (math/memory_budget.h) are checked against
+// Allocations the readers check against the memory available (util/memory_budget.h) are checked against
 // 256 MiB here, well under libFuzzer's -rss_limit_mb (2048 in pipelines/fuzz.sh) with room for ASan's own: a
 // file that declares more is refused as on a small machine, not reported as an out-of-memory finding, and no
 // input spends the fuzzer's time clearing gigabytes.

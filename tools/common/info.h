@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "formats/ltfile.h"
-#include "math/error.h"
+#include "util/error.h"
 #include "scene/scene.h"
 
 namespace lt::tool {

@@ -6,18 +6,11 @@
 
 #include <chrono>
 #include <cstdio>
-#include <sstream>
 #include <string>
 
-namespace lt::tool {
+#include "run/run_summary.h"
 
-// "0.25 s", "3.10 s", "42 s": precision for short times, none for long ones.
-inline std::string formatSeconds(double s) {
-    std::ostringstream o;
-    o.precision(s < 10 ? 2 : 0);
-    o << std::fixed << s << " s";
-    return o.str();
-}
+namespace lt::tool {
 
 class Progress {
 public:

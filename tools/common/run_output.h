@@ -8,18 +8,19 @@
 
 #include "common/progress.h"
 #include "formats/ltfile.h"
-#include "sampling/render.h"
 #include "sampling/run_clock.h"
 
 namespace lt::tool {
 
 // Progress of a run on stderr: "2.5 spp, 3.10 s, 9.3 s left" with `unit` "spp" and `pixels` the film's
-// pixel count (samples / pixels), or "start-up, ..." while a Markov-chain run starts.
+// pixel count (samples / pixels), or the phase and its time while a run does other work ("start-up, 3.10 s",
+// "seeding with BDPT, 0.5 s").
 inline RunProgressCallback runProgress(Progress& progress, double pixels, std::string unit) {
     return [&progress, pixels, unit = std::move(unit)](const RunProgress& p) {
         std::ostringstream d;
-        if (std::string(p.phase) == "start-up") {
-            d << "start-up, " << formatSeconds(p.wallSeconds);
+        const std::string phase = p.phase;
+        if (phase != "render" && phase != "chains" && phase != "gradients") {
+            d << phase << ", " << formatSeconds(p.wallSeconds);
         } else {
             d << std::setprecision(3) << double(p.samples) / pixels << ' ' << unit << ", "
               << formatSeconds(p.wallSeconds);
@@ -41,21 +42,6 @@ inline RunSnapshotCallback snapshotWriter(file::Writer& writer) {
         snap.buffer = image;
         writer.writeSnapshot(snap);
     };
-}
-
-// The "run" STAT table of a render of `pixels` pixels (lt-seed, lt-gradient; formats/SPEC.md). INFO is
-// written before the work, so times and counts go here.
-inline file::StatTable renderRunTable(const RenderStats& stats, double pixels) {
-    return file::valueTable("run", {{"samples", double(stats.samples)},
-                                    {"spp", double(stats.samples) / pixels},
-                                    {"passes", double(stats.passes)},
-                                    {"wall_seconds", stats.wallSeconds},
-                                    {"cpu_seconds", stats.cpuSeconds},
-                                    {"rays", double(stats.rays)},
-                                    {"nonfinite_dropped", double(stats.health.nonFinite)},
-                                    {"interrupted", stats.interrupted ? 1.0 : 0.0},
-                                    {"snapshots", double(stats.snapshots)},
-                                    {"snapshot_seconds", stats.snapshotSeconds}});
 }
 
 } // namespace lt::tool

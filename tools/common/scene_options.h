@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "common/info.h"
-#include "math/error.h"
+#include "util/error.h"
 #include "scene/scene.h"
 
 namespace lt::tool {

@@ -11,8 +11,8 @@
 #include <optional>
 #include <string>
 
-#include "math/error.h"
-#include "math/number_text.h"
+#include "util/error.h"
+#include "util/number_text.h"
 
 namespace lt::tool {
 

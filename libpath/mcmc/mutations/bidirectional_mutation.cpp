@@ -96,59 +96,49 @@ double BidirectionalMutation::newVertexDensity(const MarkovPath& path, int lo, i
     return sum / double(n + 1);
 }
 
-void BidirectionalMutation::propose(const MarkovPath& x, Pcg32& rng, Proposal& out) const {
-    out = Proposal{};
-    const int k = x.edges();
-    const bool movable = lightMovable(x);
-    // 1. The range and the new length: kd by inversion, l uniform, ka by inversion.
-    int kd = 1;
+std::optional<BidirectionalMutation::Range> BidirectionalMutation::chooseRange(int k, bool movable, Pcg32& rng) const {
+    // The range and the new length: kd by inversion, l uniform, ka by inversion.
+    Range r;
     {
         double u = rng.nextDouble();
         const int kdMax = k + int(movable) + int(cameraMovable_);
-        for (kd = 1; kd < kdMax; ++kd) {
-            u -= deletedProbability(k, movable, kd);
+        for (r.kd = 1; r.kd < kdMax; ++r.kd) {
+            u -= deletedProbability(k, movable, r.kd);
             if (u < 0) break;
         }
     }
-    const int lmin = lowestStart(movable, kd), lmax = highestStart(k, kd);
-    const int l = lmin + std::min(int(rng.nextDouble() * (lmax - lmin + 1)), lmax - lmin);
-    const int m = l + kd;
-    int ka = 0;
-    {
-        double u = rng.nextDouble();
-        for (int a = std::max(1, kd - MaxLengthChange); a <= kd + MaxLengthChange && ka == 0; ++a) {
-            const double p = addedProbability(k, kd, l, a);
-            if (p > 0 && (u -= p) < 0) ka = a;
-        }
-        if (ka == 0) {
-            // No admissible length (the path is at the maximum and nothing may be inserted): no proposal.
-            out.failed = RejectCause::ZeroContribution;
-            return;
-        }
+    const int lmin = lowestStart(movable, r.kd), lmax = highestStart(k, r.kd);
+    r.l = lmin + std::min(int(rng.nextDouble() * (lmax - lmin + 1)), lmax - lmin);
+    r.m = r.l + r.kd;
+    double u = rng.nextDouble();
+    for (int a = std::max(1, r.kd - MaxLengthChange); a <= r.kd + MaxLengthChange && r.ka == 0; ++a) {
+        const double p = addedProbability(k, r.kd, r.l, a);
+        if (p > 0 && (u -= p) < 0) r.ka = a;
     }
-    const int s = std::min(int(rng.nextDouble() * ka), ka - 1); // light-side new vertices
-    const int t = ka - 1 - s;                                   // eye-side new vertices
-    auto fail = [&](RejectCause why) { out.failed = why; };
+    // No admissible length (the path is at the maximum and nothing may be inserted): no proposal.
+    if (r.ka == 0) return std::nullopt;
+    r.s = std::min(int(rng.nextDouble() * r.ka), r.ka - 1); // light-side new vertices
+    r.t = r.ka - 1 - r.s;                                   // eye-side new vertices
+    return r;
+}
 
-    // 2. Sample the new vertices. `light` holds the prefix and the light-side vertices, `eye` the suffix
-    // and the eye-side vertices in eye-to-light order.
-    std::vector<PathVertex> light(x.v.begin(), x.v.begin() + (l + 1));
-    std::vector<PathVertex> eye(x.v.rbegin(), x.v.rbegin() + (k - m + 1));
-    double sampled = 1;
-    for (int i = 0; i < s; ++i) {
+std::optional<RejectCause> BidirectionalMutation::sampleLightSide(const Range& r, Pcg32& rng,
+                                                                  std::vector<PathVertex>& light,
+                                                                  double& sampled) const {
+    for (int i = 0; i < r.s; ++i) {
         if (light.empty()) {
             // The light vertex anew: a point on an area emitter, or a direction of the environment (in
             // solid angle, as densityFromLight has it; the edge to it then needs no direction from x_1).
             // The emitter is chosen among the movable ones only, with the probability newVertexDensity
             // gives (pmf / movableEmitterMass_): a draw among all that failed on a point light would make
             // the light-side splits' true density pmf, not pmf / mass, against the eye-side split's.
-            if (movableSelection_.empty()) return fail(RejectCause::ZeroContribution);
+            if (movableSelection_.empty()) return RejectCause::ZeroContribution;
             const size_t index = movableSelection_.sample(rng.nextDouble());
             const Emitter& e = *scene_.emitters[index];
-            if (!movableEmitter(e)) return fail(RejectCause::ZeroContribution);
+            if (!movableEmitter(e)) return RejectCause::ZeroContribution;
             const Vec2 uPos(rng.nextDouble(), rng.nextDouble()), uDir(rng.nextDouble(), rng.nextDouble());
             const EmissionSample es = e.sampleEmission(uPos, uDir);
-            if (!(es.pdfPos > 0) || !(es.pdfDir > 0)) return fail(RejectCause::ZeroContribution);
+            if (!(es.pdfPos > 0) || !(es.pdfDir > 0)) return RejectCause::ZeroContribution;
             const double pmf = movableSelection_.pmf(index);
             if (e.isInfinite()) {
                 light.push_back(environmentVertex(scene_, scene_.sceneDisk().center, -es.d));
@@ -169,7 +159,7 @@ void BidirectionalMutation::propose(const MarkovPath& x, Pcg32& rng, Proposal& o
             next =
                 traceVertex(scene_, Ray{scene_.sceneDisk().sample(Vec2(rng.nextDouble(), rng.nextDouble()), from.si.ng),
                                         from.si.ng});
-            if (!next) return fail(RejectCause::ZeroContribution);
+            if (!next) return RejectCause::ZeroContribution;
             pdfArea = from.pdfLight(scene_, *next);
         } else if (light.size() == 1) {
             // Emission from the light vertex: its direction law (cosine for area emitters) around its own
@@ -179,24 +169,30 @@ void BidirectionalMutation::propose(const MarkovPath& x, Pcg32& rng, Proposal& o
             dir = from.isOnSurface() ? Frame::fromNormal(from.si.ng).toWorld(Frame::fromNormal(es.n).toLocal(es.d))
                                      : es.d;
             next = traceVertex(scene_, rayFrom(from, dir));
-            if (!next) return fail(RejectCause::ZeroContribution);
+            if (!next) return RejectCause::ZeroContribution;
             pdfArea = from.pdfLight(scene_, *next);
         } else {
-            if (!from.bsdf) return fail(RejectCause::ZeroContribution);
+            if (!from.bsdf) return RejectCause::ZeroContribution;
             const PathVertex& prev = light[light.size() - 2];
             from.wi = from.directionTo(prev);
             const double uLobe = rng.nextDouble();
             const auto bs =
                 sampleScattering(from, from.wi, Transport::Importance, uLobe, Vec2(rng.nextDouble(), rng.nextDouble()));
-            if (!bs) return fail(RejectCause::ZeroContribution);
+            if (!bs) return RejectCause::ZeroContribution;
             next = traceVertex(scene_, rayFrom(from, bs->wo));
-            if (!next) return fail(RejectCause::ZeroContribution);
+            if (!next) return RejectCause::ZeroContribution;
             pdfArea = from.delta ? bs->pdf * geometryTerm(from, *next) : from.convertDensity(bs->pdf, *next);
         }
         sampled *= pdfArea;
         light.push_back(*next);
     }
-    for (int i = 0; i < t; ++i) {
+    return std::nullopt;
+}
+
+std::optional<RejectCause> BidirectionalMutation::sampleEyeSide(const MarkovPath& x, const Range& r, bool lightDeleted,
+                                                                Pcg32& rng, std::vector<PathVertex>& eye,
+                                                                double& sampled) const {
+    for (int i = 0; i < r.t; ++i) {
         if (eye.empty()) {
             // The camera vertex anew: a point uniform on the thin lens's aperture (densityFromEye at k).
             PathVertex camera = x.v.back();
@@ -209,26 +205,26 @@ void BidirectionalMutation::propose(const MarkovPath& x, Pcg32& rng, Proposal& o
         std::optional<PathVertex> next;
         double pdfArea = 0;
         // The last eye-side vertex of a path whose light vertex is re-sampled from the eye may be the sky.
-        const bool escape = light.empty() && i + 1 == t;
+        const bool escape = lightDeleted && i + 1 == r.t;
         if (from.type == VertexType::Camera) {
             auto traced = traceFromCamera(scene_, sensor_, from, rng, escape);
-            if (!traced) return fail(RejectCause::ZeroContribution);
+            if (!traced) return RejectCause::ZeroContribution;
             next = std::move(traced->v);
             pdfArea = traced->density;
         } else {
-            if (!from.bsdf) return fail(RejectCause::ZeroContribution);
+            if (!from.bsdf) return RejectCause::ZeroContribution;
             const PathVertex& toward = eye[eye.size() - 2];
             const Vec3 wEye = from.directionTo(toward);
             const double uLobe = rng.nextDouble();
             const auto bs =
                 sampleScattering(from, wEye, Transport::Radiance, uLobe, Vec2(rng.nextDouble(), rng.nextDouble()));
-            if (!bs) return fail(RejectCause::ZeroContribution);
+            if (!bs) return RejectCause::ZeroContribution;
             next = traceOrEscape(scene_, rayFrom(from, bs->wo), escape);
-            if (!next) return fail(RejectCause::ZeroContribution);
+            if (!next) return RejectCause::ZeroContribution;
             if (from.delta) {
                 // The light-to-eye delta differs from the sampled one by R_imp / weight_rad (markov_path.h).
                 const auto imp = from.worldBsdf().deltaEval(bs->wo, wEye, Transport::Importance);
-                if (!imp) return fail(RejectCause::ZeroContribution);
+                if (!imp) return RejectCause::ZeroContribution;
                 pdfArea = eyeSideDeltaDensity(*imp, *bs, geometryTerm(from, *next));
             } else {
                 pdfArea = from.convertDensity(bs->pdf, *next);
@@ -237,20 +233,42 @@ void BidirectionalMutation::propose(const MarkovPath& x, Pcg32& rng, Proposal& o
         sampled *= pdfArea;
         eye.push_back(*next);
     }
+    return std::nullopt;
+}
+
+void BidirectionalMutation::propose(const MarkovPath& x, Pcg32& rng, Proposal& out) const {
+    out.reset();
+    const int k = x.edges();
+    const bool movable = lightMovable(x);
+    // 1. The range and the new length.
+    const auto range = chooseRange(k, movable, rng);
+    if (!range) {
+        out.failed = RejectCause::ZeroContribution;
+        return;
+    }
+    const Range& r = *range;
+    // 2. Sample the new vertices. `light` holds the prefix and the light-side vertices, `eye` the suffix
+    // and the eye-side vertices in eye-to-light order.
+    std::vector<PathVertex> light(x.v.begin(), x.v.begin() + (r.l + 1));
+    std::vector<PathVertex> eye(x.v.rbegin(), x.v.rbegin() + (k - r.m + 1));
+    double sampled = 1;
+    if ((out.failed = sampleLightSide(r, rng, light, sampled))) return;
+    if ((out.failed = sampleEyeSide(x, r, light.empty(), rng, eye, sampled))) return;
+    const auto fail = [&] { out.failed = RejectCause::ZeroContribution; };
     // 3. Join: the eye side reached the light (l = -1, s = 0), or a deterministic connection. A deleted
     // camera vertex comes from the eye side only (no light subpath reaches a lens).
-    if (eye.empty()) return fail(RejectCause::ZeroContribution);
+    if (eye.empty()) return fail();
     if (light.empty()) {
         PathVertex& end = eye.back();
         if (!end.infinite) {
             auto light = asLightVertex(scene_, end);
-            if (!light) return fail(RejectCause::ZeroContribution);
+            if (!light) return fail();
             end = std::move(*light);
         }
     } else {
         light.back().delta = false;
         eye.back().delta = false;
-        if (!connectible(light.back()) || !connectible(eye.back())) return fail(RejectCause::ZeroContribution);
+        if (!connectible(light.back()) || !connectible(eye.back())) return fail();
     }
     out.y.v = std::move(light);
     out.y.v.insert(out.y.v.end(), eye.rbegin(), eye.rend());
@@ -259,12 +277,25 @@ void BidirectionalMutation::propose(const MarkovPath& x, Pcg32& rng, Proposal& o
     // 4. Q in both directions, from the two paths alone.
     const int kNew = out.y.edges();
     double splitDensity = 0;
-    const double forward = newVertexDensity(out.y, l + 1, l + ka - 1, s, &splitDensity);
-    const double reverse = newVertexDensity(x, l + 1, m - 1);
-    out.forwardQ = rangeProbability(k, movable, kd, l, ka) * forward / out.y.target;
-    out.reverseQ = rangeProbability(kNew, lightMovable(out.y), ka, l, kd) * reverse / x.target;
+    const double forward = newVertexDensity(out.y, r.l + 1, r.l + r.ka - 1, r.s, &splitDensity);
+    const double reverse = newVertexDensity(x, r.l + 1, r.m - 1);
+    out.forwardQ = rangeProbability(k, movable, r.kd, r.l, r.ka) * forward / out.y.target;
+    out.reverseQ = rangeProbability(kNew, lightMovable(out.y), r.ka, r.l, r.kd) * reverse / x.target;
     out.sampledDensity = sampled;
     out.recomputedDensity = splitDensity;
 }
+
+// Always in `auto`'s mix: the one mutation that can replace any part of a path (ergodicity; MCMC survey, Sec. 3.3).
+const MutationKind BidirectionalMutation::Kind{
+    "bidirectional",
+    "mutation",
+    "replaces any part of a path; required: the others alone are not ergodic",
+    {},
+    [](const MutationContext& c, const OptionValues&) -> std::unique_ptr<Mutation> {
+        return std::make_unique<BidirectionalMutation>(c.scene, c.maxEdges);
+    },
+    [](const SceneFeatures&) { return std::string(); },
+    {},
+    {}};
 
 } // namespace lt

@@ -20,15 +20,19 @@
 
 #include "math/distribution.h"
 #include "mcmc/mutation.h"
+#include "mcmc/mutation_registry.h"
 
 namespace lt {
 
 class BidirectionalMutation final : public Mutation {
 public:
+    // Its row of the registry (mcmc/mutation_registry.h).
+    static const MutationKind Kind;
+
     // maxEdges: the longest path the chain may reach (the scene's maxDepth, or a bound when unbounded).
     BidirectionalMutation(const Scene& scene, int maxEdges);
 
-    [[nodiscard]] std::string name() const override { return "bidirectional"; }
+    [[nodiscard]] std::string name() const override { return Kind.name; }
     [[nodiscard]] bool suitable(const MarkovPath&) const override { return true; }
     void propose(const MarkovPath& x, Pcg32& rng, Proposal& out) const override;
 
@@ -45,6 +49,21 @@ public:
     [[nodiscard]] bool lightMovable(const MarkovPath& path) const;
 
 private:
+    // A proposal's choice: kd edges deleted from x_l to x_m = x_{l + kd}, ka added, s of the new vertices from
+    // the light side and t from the eye side.
+    struct Range {
+        int kd = 1, l = 0, m = 0, ka = 0, s = 0, t = 0;
+    };
+    // The range, drawn (nothing when no length may be added).
+    [[nodiscard]] std::optional<Range> chooseRange(int k, bool lightMovable, Pcg32& rng) const;
+    // The s light-side vertices after `light` (the prefix x_0 .. x_l), their density multiplied into `sampled`.
+    [[nodiscard]] std::optional<RejectCause> sampleLightSide(const Range& r, Pcg32& rng, std::vector<PathVertex>& light,
+                                                             double& sampled) const;
+    // The t eye-side vertices after `eye` (the suffix, eye to light); with `lightDeleted` the last may escape to
+    // the sky.
+    [[nodiscard]] std::optional<RejectCause> sampleEyeSide(const MarkovPath& x, const Range& r, bool lightDeleted,
+                                                           Pcg32& rng, std::vector<PathVertex>& eye,
+                                                           double& sampled) const;
     [[nodiscard]] double deletedProbability(int k, bool lightMovable, int kd) const;
     [[nodiscard]] double addedProbability(int k, int kd, int l, int ka) const;
     // The last admissible range start for kd deleted edges (m = l + kd = k + 1 re-samples the camera vertex).

@@ -56,7 +56,7 @@ double CausticPerturbation::chainDensity(const MarkovPath& path, double pdfStep)
 }
 
 void CausticPerturbation::propose(const MarkovPath& x, Pcg32& rng, Proposal& out) const {
-    out = Proposal{};
+    out.reset();
     const int k = x.edges();
     const int l = chainStart(x);
     const PathVertex& start = x.v[size_t(l)];
@@ -86,5 +86,20 @@ void CausticPerturbation::propose(const MarkovPath& x, Pcg32& rng, Proposal& out
     // (the kernel depends on the state, so the reverse density takes its parameters at y).
     setTransitionDensities(out, x, sampled, chainDensity(out.y, pdfStep), chainDensity(x, stepDensity(out.y, step)));
 }
+
+// It moves only paths through specular chains (Veach and Guibas 1997): without one in the scene it could never
+// propose anything.
+const MutationKind CausticPerturbation::Kind{
+    "caustic",
+    "perturbation",
+    "turns the light end of (L|D) S+ D E paths (moves a sky's or sun's ray sideways): caustics on a diffuse surface "
+    "seen directly",
+    {},
+    [](const MutationContext& c, const OptionValues&) -> std::unique_ptr<Mutation> {
+        return std::make_unique<CausticPerturbation>(c.scene);
+    },
+    [](const SceneFeatures& f) { return f.specularChains ? std::string() : f.specularReason; },
+    {},
+    {}};
 
 } // namespace lt

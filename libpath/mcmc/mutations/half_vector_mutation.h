@@ -51,21 +51,30 @@
 #include "manifold/half_vector_walk.h"
 #include "math/gaussian2.h"
 #include "mcmc/mutation.h"
+#include "mcmc/mutation_registry.h"
+#include "mcmc/mutations/walk_figures.h"
 
 namespace lt {
 
 class HalfVectorMutation final : public Mutation {
 public:
+    // Its row of the registry (mcmc/mutation_registry.h).
+    static const MutationKind Kind;
+
     // gamma in (0, 1] (HSLT Sec. 6.1); stratify >= 0, the image-plane step as a fraction of the image.
     HalfVectorMutation(const Scene& scene, double gamma = 0.1, double stratify = 0.02, bool jumps = true);
 
-    [[nodiscard]] std::string name() const override { return "hslt"; }
+    [[nodiscard]] std::string name() const override { return Kind.name; }
     // At least one non-specular interior vertex. A light vertex at infinity (environment, directional
     // light) is an endpoint held like the others: its direction stays, x_1 moves across its beam
     // (manifold_walk.h rayToward), and the densities need nothing else (f_H = f~ g above holds for any
     // fixed endpoints; the infinite end's distance gives no derivative, specular_constraint.cpp).
     [[nodiscard]] bool suitable(const MarkovPath& x) const override;
     void propose(const MarkovPath& x, Pcg32& rng, Proposal& out) const override;
+    // Its walks (mcmc/mutations/walk_figures.h).
+    [[nodiscard]] std::unique_ptr<MutationFigures> makeFigures() const override {
+        return std::make_unique<WalkFigures>();
+    }
 
     // A state in the manifold's charts: the whole path as one chain (its interior vertices set up for
     // their scattering, specular ones at offset 0), its Jacobian and factorization.

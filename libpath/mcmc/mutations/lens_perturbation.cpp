@@ -14,7 +14,7 @@ bool LensPerturbation::suitable(const MarkovPath& x) const {
 }
 
 void LensPerturbation::propose(const MarkovPath& x, Pcg32& rng, Proposal& out) const {
-    out = Proposal{};
+    out.reset();
     const int j = firstNonSpecularFromEye(x.v);
     // 1.-2. The raster offset and the camera ray through the chain to x_j'.
     double sampled = 1;
@@ -26,5 +26,17 @@ void LensPerturbation::propose(const MarkovPath& x, Pcg32& rng, Proposal& out) c
     setTransitionDensities(out, x, sampled, *pOffset * eyeChainDensity(scene_, sensor_, out.y.v, j),
                            *pOffset * eyeChainDensity(scene_, sensor_, x.v, j));
 }
+
+const MutationKind LensPerturbation::Kind{
+    "lens",
+    "perturbation",
+    "moves the eye end of (L|D) D S* E paths to a nearby raster position",
+    {},
+    [](const MutationContext& c, const OptionValues&) -> std::unique_ptr<Mutation> {
+        return std::make_unique<LensPerturbation>(c.scene);
+    },
+    [](const SceneFeatures&) { return std::string(); },
+    {},
+    {}};
 
 } // namespace lt

@@ -12,15 +12,19 @@
 #pragma once
 
 #include "mcmc/mutation.h"
+#include "mcmc/mutation_registry.h"
 #include "mcmc/mutations/specular_chain.h"
 
 namespace lt {
 
 class LensPerturbation final : public Mutation {
 public:
+    // Its row of the registry (mcmc/mutation_registry.h).
+    static const MutationKind Kind;
+
     explicit LensPerturbation(const Scene& scene);
 
-    [[nodiscard]] std::string name() const override { return "lens"; }
+    [[nodiscard]] std::string name() const override { return Kind.name; }
     [[nodiscard]] bool suitable(const MarkovPath& x) const override;
     void propose(const MarkovPath& x, Pcg32& rng, Proposal& out) const override;
 

@@ -44,7 +44,7 @@ double LensSubpathMutation::subpathDensity(const std::vector<PathVertex>& v, int
 }
 
 void LensSubpathMutation::propose(const MarkovPath& x, Pcg32& rng, Proposal& out) const {
-    out = Proposal{};
+    out.reset();
     const int j = firstNonSpecularFromEye(x.v);
     auto fail = [&](RejectCause why) { out.failed = why; };
     // 1. The new lens subpath, eye to light: a camera ray uniform over the sensor window, then at each hit
@@ -87,5 +87,20 @@ void LensSubpathMutation::propose(const MarkovPath& x, Pcg32& rng, Proposal& out
     // 4. T of each lens subpath from its path alone.
     setTransitionDensities(out, x, sampled, subpathDensity(out.y.v, j), subpathDensity(x.v, j));
 }
+
+const MutationKind LensSubpathMutation::Kind{
+    "lens-subpath",
+    "mutation",
+    "a fresh eye end of (L|D) D S* E paths through a random raster position",
+    {},
+    [](const MutationContext& c, const OptionValues&) -> std::unique_ptr<Mutation> {
+        return std::make_unique<LensSubpathMutation>(c.scene, c.maxEdges);
+    },
+    [](const SceneFeatures&) {
+        return std::string(
+            "optional (Veach 1997; Mitsuba dropped it for want of a gain); ask for it with --strategies");
+    },
+    {},
+    {}};
 
 } // namespace lt

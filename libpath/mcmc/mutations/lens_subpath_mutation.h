@@ -14,16 +14,20 @@
 #pragma once
 
 #include "mcmc/mutation.h"
+#include "mcmc/mutation_registry.h"
 #include "mcmc/sensor_window.h"
 
 namespace lt {
 
 class LensSubpathMutation final : public Mutation {
 public:
+    // Its row of the registry (mcmc/mutation_registry.h).
+    static const MutationKind Kind;
+
     // maxEdges: the longest path the chain may reach (as for the bidirectional mutation).
     LensSubpathMutation(const Scene& scene, int maxEdges);
 
-    [[nodiscard]] std::string name() const override { return "lens-subpath"; }
+    [[nodiscard]] std::string name() const override { return Kind.name; }
     [[nodiscard]] bool suitable(const MarkovPath& x) const override;
     void propose(const MarkovPath& x, Pcg32& rng, Proposal& out) const override;
 

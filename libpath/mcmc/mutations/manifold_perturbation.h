@@ -61,21 +61,30 @@
 #include "manifold/manifold_walk.h"
 #include "math/von_mises_fisher.h"
 #include "mcmc/mutation.h"
+#include "mcmc/mutation_registry.h"
+#include "mcmc/mutations/walk_figures.h"
 #include "mcmc/mutations/specular_chain.h"
 
 namespace lt {
 
 class ManifoldPerturbation final : public Mutation {
 public:
+    // Its row of the registry (mcmc/mutation_registry.h).
+    static const MutationKind Kind;
+
     // lambda: the lobe's peak relative to the BSDF's sampling density (ME Sec. 5.1: 50 .. 500).
     // normalChange: Delta-theta of ME App. A1, the mean angle by which a perturbation turns the microfacet
     // normal at x_b (radians; measured in a pre-run by measureNormalChange, then held fixed so that the
     // chain stays Markov; Mitsuba starts from 1 degree).
     explicit ManifoldPerturbation(const Scene& scene, double lambda = 50, double normalChange = Pi / 180);
 
-    [[nodiscard]] std::string name() const override { return "manifold"; }
+    [[nodiscard]] std::string name() const override { return Kind.name; }
     [[nodiscard]] bool suitable(const MarkovPath& x) const override;
     void propose(const MarkovPath& x, Pcg32& rng, Proposal& out) const override;
+    // Its walks (mcmc/mutations/walk_figures.h).
+    [[nodiscard]] std::unique_ptr<MutationFigures> makeFigures() const override {
+        return std::make_unique<WalkFigures>();
+    }
 
     // The vertices a perturbation works on: the turned vertex a, the moved vertex b, the held vertex c
     // (indices light to eye; b between a and c).

@@ -42,7 +42,7 @@ double MultiChainPerturbation::density(const MarkovPath& path, double pOffset,
 }
 
 void MultiChainPerturbation::propose(const MarkovPath& x, Pcg32& rng, Proposal& out) const {
-    out = Proposal{};
+    out.reset();
     const auto d = stops(x);
     // 1. The lens perturbation through the first chain.
     double sampled = 1;
@@ -67,5 +67,19 @@ void MultiChainPerturbation::propose(const MarkovPath& x, Pcg32& rng, Proposal& 
     // 4. Q both ways: the same offsets, each path's own Jacobians (step 4).
     setTransitionDensities(out, x, sampled, density(out.y, *pOffset, thetas), density(x, *pOffset, thetas));
 }
+
+// It moves only paths through specular chains (Veach and Guibas 1997): without one in the scene it could never
+// propose anything.
+const MutationKind MultiChainPerturbation::Kind{
+    "multi-chain",
+    "perturbation",
+    "the lens perturbation carried through D S+ D S* E paths, chain after chain",
+    {},
+    [](const MutationContext& c, const OptionValues&) -> std::unique_ptr<Mutation> {
+        return std::make_unique<MultiChainPerturbation>(c.scene);
+    },
+    [](const SceneFeatures& f) { return f.specularChains ? std::string() : f.specularReason; },
+    {},
+    {}};
 
 } // namespace lt

@@ -61,7 +61,7 @@ double PortalPerturbation::density(const Vec3& from, const Vec3& n, const Markov
 }
 
 void PortalPerturbation::propose(const MarkovPath& x, Pcg32& rng, Proposal& out) const {
-    out = Proposal{};
+    out.reset();
     const auto crossing = portalCrossing(scene_, x.v);
     if (!crossing) {
         out.failed = RejectCause::ZeroContribution;
@@ -104,5 +104,29 @@ void PortalPerturbation::propose(const MarkovPath& x, Pcg32& rng, Proposal& out)
     setTransitionDensities(out, x, sampled, density(w0, crossing->n, out.y, i),
                            density(edgeDirection(out.y.v, i), back->n, x, i));
 }
+
+// It moves only edges that cross a portal (Otsu et al. Sec. 4.5: suitability 0 elsewhere). The paper mixes
+// bidirectional : (lens : portal = 1 : 1) = 1 : 1; auto gives every chosen strategy weight 1.
+const MutationKind PortalPerturbation::Kind{
+    "portal",
+    "perturbation",
+    "turns the edge crossing a portal (a window, a door ajar) about its crossing point: light entering a room "
+    "through a small opening",
+    {{"--portal-range", "portal_range",
+      "portal perturbation: the smallest and largest turn of the edge about its crossing, in radians (default "
+      "0.00390625,0.0625: 2^-8 and 2^-4, Otsu et al.'s values)",
+      "MIN,MAX", "0.00390625,0.0625",
+      option::numbers(
+          2, [](const std::vector<double>& r) { return r[0] > 0 && r[0] < r[1] && r[1] < Pi / 2; },
+          "need 0 < MIN < MAX < pi/2 radians")}},
+    [](const MutationContext& c, const OptionValues& values) -> std::unique_ptr<Mutation> {
+        const auto range = values.at("portal_range").get<std::vector<double>>();
+        return std::make_unique<PortalPerturbation>(c.scene, ReciprocalKernel{range[0], range[1]});
+    },
+    [](const SceneFeatures& f) { return f.hasPortals ? std::string() : f.portalReason; },
+    {},
+    [](const SceneFeatures& f) {
+        return f.hasPortals ? std::string() : "portal perturbation: " + f.portalReason + " (it will propose nothing)";
+    }};
 
 } // namespace lt

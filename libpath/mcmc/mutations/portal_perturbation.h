@@ -30,6 +30,7 @@
 #include <optional>
 
 #include "mcmc/mutation.h"
+#include "mcmc/mutation_registry.h"
 #include "mcmc/mutations/specular_chain.h"
 
 namespace lt {
@@ -46,10 +47,13 @@ struct PortalCrossing {
 
 class PortalPerturbation final : public Mutation {
 public:
+    // Its row of the registry (mcmc/mutation_registry.h).
+    static const MutationKind Kind;
+
     // `angles`: the direction kernel's range in radians (Eq. 5's r_min, r_max).
     PortalPerturbation(const Scene& scene, const ReciprocalKernel& angles);
 
-    [[nodiscard]] std::string name() const override { return "portal"; }
+    [[nodiscard]] std::string name() const override { return Kind.name; }
     // Suitable where the path crosses a portal on an edge that can move (Sec. 4.5: otherwise T(y -> x)
     // would be 0 for every y) and no delta vertex is on that edge or next to it.
     [[nodiscard]] bool suitable(const MarkovPath& x) const override;

@@ -2,7 +2,7 @@
 // perpendicular to it (a delta in direction: radiance E delta(w - w0)).
 #include <limits>
 
-#include "math/error.h"
+#include "util/error.h"
 #include "scene/emitter.h"
 #include "scene/emitters/scene_disk.h"
 

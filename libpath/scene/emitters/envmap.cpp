@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "math/constants.h"
-#include "math/error.h"
+#include "util/error.h"
 #include "math/rigid.h"
 #include "scene/emitter.h"
 #include "scene/emitters/lat_long.h"

@@ -1,6 +1,6 @@
 // Mitsuba's `point` emitter: an isotropic point source of radiant intensity I (W/sr) at a position.
 #include "math/constants.h"
-#include "math/error.h"
+#include "util/error.h"
 #include "math/warp.h"
 #include "scene/emitter.h"
 #include "scene/emitters/point_source.h"

@@ -7,9 +7,9 @@
 
 #include "math/bit_reversal.h"
 #include "math/constants.h"
-#include "math/error.h"
+#include "util/error.h"
 #include "math/frame.h"
-#include "math/memory_budget.h"
+#include "util/memory_budget.h"
 #include "math/warp.h"
 #include "scene/emitters/preetham_sun.h"
 

@@ -1,4 +1,4 @@
-#include "math/memory_budget.h"
+#include "util/memory_budget.h"
 
 #include <unistd.h>
 
@@ -10,8 +10,8 @@
 #include <fstream>
 #include <optional>
 
-#include "math/error.h"
-#include "math/number_text.h"
+#include "util/error.h"
+#include "util/number_text.h"
 
 namespace lt {
 

@@ -6,33 +6,30 @@
 // with the same BVH built without it, Embree's default (Tungsten's), which is what robustness costs.
 #include <CLI/CLI.hpp>
 
-#include <oneapi/tbb/parallel_for.h>
-#include <oneapi/tbb/task_arena.h>
-
-#include <atomic>
 #include <chrono>
-#include <vector>
 #include <iostream>
+#include <vector>
 
+#include "common/tool.h"
 #include "math/rng.h"
 #include "math/warp.h"
+#include "sampling/parallel_run.h"
 #include "scene/accel.h"
 #include "scene/scene.h"
 
 int main(int argc, char** argv) {
     CLI::App app{"lt-bench-rays: closest-hit rays per second on a scene (random origins in its bounds, random "
-                 "directions)", "lt-bench-rays"};
+                 "directions)",
+                 "lt-bench-rays"};
     std::string scenePath;
     uint64_t rays = 20000000;
     int threads = 0;
     app.add_option("SCENE", scenePath)->required();
     app.add_option("--rays", rays, "number of rays (default 2e7)");
-    app.add_option("--threads", threads, "threads (default: all cores)");
-    CLI11_PARSE(app, argc, argv);
-    try {
+    app.add_option("--threads", threads, "threads (default: all cores)")->check(lt::tool::ThreadCount);
+    return lt::tool::run(app, argc, argv, [&] {
         const auto scene = lt::loadScene(scenePath);
-        const int n = threads > 0 ? threads : tbb::this_task_arena::max_concurrency();
-        tbb::task_arena arena(n);
+        lt::ParallelRun run(lt::RunControl{threads});
         // The rays are made before the clock starts (1M of them, traced repeatedly), so the rate is that
         // of the traversal alone, not of the random numbers.
         const uint64_t pool = std::min<uint64_t>(rays, 1u << 20);
@@ -48,24 +45,22 @@ int main(int argc, char** argv) {
         for (const bool robust : {true, false}) {
             lt::EmbreeAccel accel;
             accel.build(scene->shapes, include, robust);
-            std::atomic<uint64_t> hits{0};
+            std::vector<uint64_t> hitsOf(blocks, 0);
+            uint64_t hits = 0;
             const auto start = std::chrono::steady_clock::now();
-            arena.execute([&] {
-                tbb::parallel_for(uint64_t(0), blocks, [&](uint64_t b) {
-                    uint64_t h = 0;
+            run.forEach(
+                blocks,
+                [&](uint64_t b) {
                     for (uint64_t i = 0; i < perBlock; ++i)
-                        if (accel.intersect(batch[(b * perBlock + i) % pool])) ++h;
-                    hits += h;
-                });
-            });
+                        if (accel.intersect(batch[(b * perBlock + i) % pool])) ++hitsOf[b];
+                },
+                [&](uint64_t b) { hits += hitsOf[b]; });
             const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
             std::cout << (robust ? "robust (as lt renders): " : "not robust (Embree's default): ") << blocks * perBlock
-                      << " rays, " << n << " threads, " << s << " s: " << double(blocks * perBlock) / s / 1e6
-                      << " M rays/s (" << 100.0 * double(hits) / double(blocks * perBlock) << " % hit)\n";
+                      << " rays, " << run.threads() << " threads, " << s
+                      << " s: " << double(blocks * perBlock) / s / 1e6 << " M rays/s ("
+                      << 100.0 * double(hits) / double(blocks * perBlock) << " % hit)\n";
         }
-    } catch (const std::exception& e) {
-        std::cerr << "lt-bench-rays: error: " << e.what() << '\n';
-        return 1;
-    }
-    return 0;
+        return 0;
+    });
 }

@@ -44,12 +44,10 @@ namespace lt {
 
 class Scene;
 
-// The four neighbours, in the order of ChainShifts: +x, -x, +y, -y.
-inline constexpr std::array<std::array<int, 2>, 4> kNeighbourOffsets{{{1, 0}, {-1, 0}, {0, 1}, {0, -1}}};
-
-// A state's contributions in its four neighbours: F[k] = f(T_k x) |T_k'| (zero where the shift fails), and
-// whether the neighbour's raster position lies where the sensor responds (mcmc/sensor_window.h: the crop grown by
-// the filter's margin, where the chains draw their states; else no chain can draw T_k x and no pair is formed).
+// A state's contributions in its four neighbours (NeighbourOffsets' order, gradient/shift_mapping.h): F[k] = f(T_k x)
+// |T_k'| (zero where the shift fails), and whether the neighbour's raster position lies where the sensor responds
+// (mcmc/sensor_window.h: the crop grown by the filter's margin, where the chains draw their states; else no chain can
+// draw T_k x and no pair is formed).
 struct ChainShifts {
     std::array<Spectrum, 4> F;
     std::array<bool, 4> onFilm{};

@@ -1,14 +1,10 @@
-#include "mcmc/chain_stream.h"
+#include "gdmlt/chain_stream.h"
 
 #include <chrono>
 
-#include "mcmc/chain_gradient.h"
-#include "math/error.h"
-#include "scene/accel.h"
+#include "gdmlt/chain_gradient.h"
 #include "scene/scene.h"
-
-#include <oneapi/tbb/parallel_for.h>
-#include <oneapi/tbb/task_arena.h>
+#include "util/error.h"
 
 namespace lt {
 
@@ -56,21 +52,18 @@ private:
 } // namespace
 
 ChainStreamStats gradientsFromStream(const Scene& scene, file::Reader& stream, const ChainStreamSettings& settings,
-                                     file::Buffer& result, ShiftStatistics& shifts, const RunProgressCallback& progress,
-                                     const RunSnapshotCallback& snapshot, const std::atomic<bool>* stop) {
-    const int threads = settings.threads > 0 ? settings.threads : tbb::this_task_arena::max_concurrency();
-    tbb::task_arena arena(threads);
+                                     file::Buffer& result, ShiftStatistics& shifts, const RunControl& control) {
+    ParallelRun run(control);
     PlaneFilms films(scene);
     const double pixels = double(films.window().area());
     SnapshotSchedule schedule = settings.snapshots;
-    RunClock clock(settings.start);
     ChainStreamStats stats;
     const bool afterChains = stream.regularFile(); // chain_stream.h: times
     constexpr size_t Block = 256;
     std::vector<ChainGradientSplats> blocks;
     std::atomic<uint64_t> nonFinite{0};
     for (;;) {
-        if (stop && stop->load()) {
+        if (run.stopped()) {
             stats.interrupted = true;
             break;
         }
@@ -88,8 +81,9 @@ ChainStreamStats gradientsFromStream(const Scene& scene, file::Reader& stream, c
         const auto t0 = std::chrono::steady_clock::now();
         const size_t n = round->states.size();
         blocks.assign((n + Block - 1) / Block, {});
-        arena.execute([&] {
-            tbb::parallel_for(size_t(0), blocks.size(), [&](size_t k) {
+        run.forEach(
+            blocks.size(),
+            [&](uint64_t k) {
                 for (size_t i = k * Block; i < std::min(n, (k + 1) * Block); ++i) {
                     try {
                         if (!addChainState(scene, films.window(), round->states[i], settings.shiftThreshold, blocks[k],
@@ -100,10 +94,9 @@ ChainStreamStats gradientsFromStream(const Scene& scene, file::Reader& stream, c
                                     std::to_string(i) + ": " + e.what());
                     }
                 }
-                EmbreeAccel::flushRayCount();
-            });
-            films.merge(blocks, round->mutations - stats.mutations);
-        });
+            },
+            [](uint64_t) {});
+        run.execute([&] { films.merge(blocks, round->mutations - stats.mutations); });
         stats.ownSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         ++stats.rounds;
         stats.states += n;
@@ -112,18 +105,18 @@ ChainStreamStats gradientsFromStream(const Scene& scene, file::Reader& stream, c
         stats.bSamples = round->bSamples;
         stats.chainWallSeconds = round->wallSeconds;
         stats.chainCpuSeconds = round->cpuSeconds;
-        RunProgress p = clock.progress("gradients", -1, stats.mutations, 0);
+        RunProgress p = run.clock().progress("gradients", -1, stats.mutations, 0);
         if (afterChains) p.wallSeconds = stats.chainWallSeconds + stats.ownSeconds;
         p.cpuSeconds += stats.chainCpuSeconds;
         p.b = stats.b;
-        if (snapshot && schedule.due(p.wallSeconds, double(stats.mutations) / pixels))
-            clock.snapshot(
-                snapshot, p, [&] { return films.buffer(stats.b); }, stats);
-        if (progress) progress(p);
+        if (run.snapshots() && schedule.due(p.wallSeconds, double(stats.mutations) / pixels))
+            run.snapshot(
+                p, [&] { return films.buffer(stats.b); }, stats);
+        run.report(p);
     }
     if (stats.rounds == 0 && !stats.interrupted)
         throw Error(stream.name() + ": no chain states (CHST chunks); write the stream with lt-mutate --stream");
-    clock.close(stats);
+    run.clock().close(stats);
     if (afterChains) stats.wallSeconds = stats.chainWallSeconds + stats.ownSeconds;
     stats.cpuSeconds += stats.chainCpuSeconds;
     stats.health.nonFinite += nonFinite.load();

@@ -1,4 +1,4 @@
-#include "math/temp_output.h"
+#include "util/temp_output.h"
 
 #include <fcntl.h>
 #include <signal.h>
@@ -10,7 +10,7 @@
 #include <filesystem>
 #include <utility>
 
-#include "math/error.h"
+#include "util/error.h"
 
 namespace lt {
 

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <iostream>
 
+#include "common/tool.h"
 #include "formats/ltfile.h"
 #include "image/image_io.h"
 #include "math/rng.h"
@@ -28,8 +29,7 @@ int main(int argc, char** argv) {
     app.add_option("--seed", seed, "random seed (default 1)");
     app.add_option("-o,--output", out, "lt buffer file to write")->required();
     app.add_option("--truth", truthOut, "noise-free image to write (EXR)");
-    CLI11_PARSE(app, argc, argv);
-    try {
+    return lt::tool::run(app, argc, argv, [&] {
         const size_t N = size_t(width) * height;
         lt::RgbPlanes truth;
         for (size_t c = 0; c < 3; ++c)
@@ -79,9 +79,6 @@ int main(int argc, char** argv) {
         writer.writeBuffer(buffer);
         writer.finish();
         if (!truthOut.empty()) lt::writeExr(truthOut, lt::rgbBuffer(width, height, std::move(truth)), info);
-    } catch (const std::exception& e) {
-        std::cerr << "lt-bench-gradient-input: error: " << e.what() << '\n';
-        return 1;
-    }
-    return 0;
+        return 0;
+    });
 }

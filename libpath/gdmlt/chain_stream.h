@@ -1,6 +1,6 @@
 // The gradient stage of gradient-domain MLT (lt-gradient --from-paths): reads a chain-state stream
 // (lt-mutate --stream, formats/SPEC.md "CHST") round by round and estimates the primal image, its forward
-// differences and the directly seen emitters from the chains' states (mcmc/chain_gradient.h), read with
+// differences and the directly seen emitters from the chains' states (gdmlt/chain_gradient.h), read with
 // b / N as the stream stood after each round. States are processed in parallel in blocks and merged in stream
 // order, so the result does not depend on the thread count.
 #pragma once
@@ -12,7 +12,7 @@
 #include "formats/ltfile.h"
 #include "gradient/gradient_settings.h"
 #include "image/snapshot_schedule.h"
-#include "sampling/run_clock.h"
+#include "sampling/parallel_run.h"
 
 namespace lt {
 
@@ -20,16 +20,13 @@ class Scene;
 
 struct ChainStreamSettings {
     double shiftThreshold = 0.001;
-    int threads = 0; // 0: all cores
     SnapshotSchedule snapshots;
-    // When the pipeline began (chain_stream.h: times): the tool's start, since in a pipe every stage starts at
-    // once and this one waits for the others' output; empty: when gradientsFromStream is called.
-    std::optional<std::chrono::steady_clock::time_point> start;
 };
 
 // Times: what the image cost when its snapshot (or the end) is written. Read from a pipe (lt-mutate --stream - |
 // lt-gradient --from-paths -), the stages run side by side and started together: the wall seconds are those
-// since the pipeline began (ChainStreamSettings::start), the CPU seconds the chains' (the round's figures in the
+// since the pipeline began (RunControl::start: the tool's start, since in a pipe every stage starts at once and
+// this one waits for the others' output), the CPU seconds the chains' (the round's figures in the
 // stream) plus this process's. Read from a file written before, the stages ran one after the other: the chains' wall
 // and CPU seconds plus this stage's own work on the rounds so far (time spent reading left out).
 struct ChainStreamStats : RunRecord {
@@ -44,7 +41,6 @@ struct ChainStreamStats : RunRecord {
 // Throws lt::Error naming the stream for a state that does not fit the scene, a stream without rounds, or
 // damage (the reader's).
 ChainStreamStats gradientsFromStream(const Scene& scene, file::Reader& stream, const ChainStreamSettings& settings,
-                                     file::Buffer& result, ShiftStatistics& shifts, const RunProgressCallback& progress,
-                                     const RunSnapshotCallback& snapshot, const std::atomic<bool>* stop);
+                                     file::Buffer& result, ShiftStatistics& shifts, const RunControl& control);
 
 } // namespace lt

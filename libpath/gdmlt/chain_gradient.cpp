@@ -1,11 +1,11 @@
-#include "mcmc/chain_gradient.h"
+#include "gdmlt/chain_gradient.h"
 
 #include <climits>
 #include <cmath>
 #include <optional>
 
 #include "gradient/shift_mapping.h"
-#include "math/error.h"
+#include "util/error.h"
 #include "mcmc/image_contribution.h"
 #include "path/path_record.h"
 #include "scene/scene.h"
@@ -92,7 +92,7 @@ ChainShifts shiftChainState(const Scene& scene, const SensorWindow& sensor, cons
                             const Vec2& raster, const Spectrum& f, double shiftThreshold, ShiftStatistics* stats) {
     ChainShifts out;
     for (size_t k = 0; k < 4; ++k) {
-        const Vec2 r = raster + Vec2(kNeighbourOffsets[k][0], kNeighbourOffsets[k][1]);
+        const Vec2 r = raster + Vec2(NeighbourOffsets[k][0], NeighbourOffsets[k][1]);
         out.onFilm[k] =
             r.x >= sensor.x0 && r.x < sensor.x0 + sensor.width && r.y >= sensor.y0 && r.y < sensor.y0 + sensor.height;
     }
@@ -108,7 +108,7 @@ ChainShifts shiftChainState(const Scene& scene, const SensorWindow& sensor, cons
     std::vector<EndingTerm> shifted;
     for (size_t k = 0; k < 4; ++k) {
         if (!out.onFilm[k]) continue;
-        const Vec2 r = raster + Vec2(kNeighbourOffsets[k][0], kNeighbourOffsets[k][1]);
+        const Vec2 r = raster + Vec2(NeighbourOffsets[k][0], NeighbourOffsets[k][1]);
         const ShiftOutcome o =
             shiftBasePath(scene, *base, primaryVertex(scene, r, v.back().si.p), shiftThreshold, shifted);
         if (stats) stats->add(o);
@@ -163,13 +163,13 @@ bool addChainState(const Scene& scene, const PixelRect& window, const file::Chai
         }
         const Spectrum& F = shifts.F[k];
         const double w = own / (own + (F.isBlack() ? 0.0 : targetValue(F)));
-        const Vec2 r = raster + Vec2(kNeighbourOffsets[k][0], kNeighbourOffsets[k][1]);
+        const Vec2 r = raster + Vec2(NeighbourOffsets[k][0], NeighbourOffsets[k][1]);
         out.primal.push_back({raster, f * (0.25 * w * c)});
         if (!F.isBlack()) out.primal.push_back({r, F * (0.25 * w * c)});
         // Forward differences dx(j) = I(j + x) - I(j): the pair toward +x is stored at x's pixel, the one
         // toward -x at the neighbour's (its raster position r, where h_{j-x}(r) = h_j(raster)).
-        const bool forward = kNeighbourOffsets[k][0] + kNeighbourOffsets[k][1] > 0;
-        auto& plane = kNeighbourOffsets[k][0] != 0 ? out.dx : out.dy;
+        const bool forward = NeighbourOffsets[k][0] + NeighbourOffsets[k][1] > 0;
+        auto& plane = NeighbourOffsets[k][0] != 0 ? out.dx : out.dy;
         plane.push_back(forward ? Splat{raster, (F - f) * (w * c)} : Splat{r, (f - F) * (w * c)});
         finite = finite && F.isFinite() && std::isfinite(w);
     }

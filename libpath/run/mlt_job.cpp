@@ -1,0 +1,248 @@
+#include "run/mlt_job.h"
+
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+
+#include "gdmlt/chain_gradient.h"
+#include "run/run_summary.h"
+#include "util/error.h"
+
+namespace lt {
+
+ChainSpace chainSpace(const std::string& name) {
+    if (name == "path") return ChainSpace::Path;
+    if (name == "primary") return ChainSpace::Primary;
+    if (name == "multiplexed") return ChainSpace::Multiplexed;
+    throw Error("no chain space named '" + name + "' (path, primary or multiplexed)");
+}
+
+MltJob::MltJob(const Scene& scene, MltSettings settings, std::optional<PathSpaceSeeds> seeds, MutationKinds kinds)
+    : scene_(scene), settings_(std::move(settings)), seeds_(std::move(seeds)), kinds_(kinds) {
+    if (seeds_) seedFileB_ = seeds_->b.b();
+    MltSettings& s = settings_;
+    if (!pathSpace() && (s.dumpEvery > 0 || s.stream || s.target != ChainTarget::Luminance))
+        throw Error("the chain-state stream, path dumps and other targets than luminance need --space path");
+    if (s.stream && scene.camera.hasAperture())
+        throw Error(scene.filename + ": --stream writes no lens points yet, and this scene's thinlens camera needs "
+                                     "them (the gradient stage works with pinhole cameras)");
+    if (s.startupSamples == 0) s.startupSamples = s.space == ChainSpace::Multiplexed ? 20000 : 100000;
+    if (seeds_ && !pathSpace()) {
+        std::ostringstream note;
+        note << "--space " << (s.space == ChainSpace::Primary ? "primary" : "multiplexed")
+             << " starts its chains from its own start-up samples; the " << seeds_->paths.size()
+             << " seed paths are for --space path (their b = " << seeds_->b.b() << ")";
+        notes_.push_back(note.str());
+    }
+    if (pathSpace()) {
+        features_ = analyzeScene(scene);
+        choice_ = chooseMutations(s.strategies, features_, kinds_);
+        for (const auto& w : choice_.warnings)
+            notes_.push_back("warning: " + w);
+        for (const auto& why : choice_.leftOut)
+            notes_.push_back("left out: " + why);
+    }
+    if (s.paths.maxDepth < 0 && s.space != ChainSpace::Primary) {
+        std::ostringstream note;
+        note << "warning: the max depth is unbounded; "
+             << (pathSpace() ? "the bidirectional mutation builds paths" : "multiplexed chains cover paths")
+             << " of up to " << s.unboundedEdges << " edges (--max-length-unbounded)";
+        notes_.push_back(note.str());
+    }
+}
+
+int MltJob::maxEdges() const {
+    return settings_.paths.maxDepth > 0 ? settings_.paths.maxDepth : settings_.unboundedEdges;
+}
+
+nlohmann::json MltJob::parameters() const {
+    const MltSettings& s = settings_;
+    const char* spaces[] = {"path", "primary", "multiplexed"};
+    nlohmann::json p = {{"space", spaces[int(s.space)]},
+                        {"mutations", s.run.mutations},
+                        {"chains", s.run.chains},
+                        {"round", s.run.mutationsPerRound},
+                        {"estimator", "expected-value splatting; image = b / N sum f / f* at each state"},
+                        {"target", s.target == ChainTarget::Gradient ? "gradient" : "luminance"}};
+    if (s.target == ChainTarget::Gradient) {
+        p["gradient_alpha"] = s.gradientAlpha;
+        p["shift_threshold"] = s.shiftThreshold;
+    }
+    if (pathSpace()) {
+        p["refine_b"] = s.refineB;
+        if (!seeds_) p["startup_samples"] = s.startupSamples;
+        p.update(mutationParameters(choice_, s.mutationValues));
+        p["max_length"] = maxEdges();
+        return p;
+    }
+    const SmallStepKernel smallStep;
+    p["large_step"] = s.largeStep;
+    p["small_step"] = {{"s1", smallStep.s1()}, {"s2", smallStep.s2()}};
+    p["startup_samples"] = s.startupSamples;
+    p["startup_error"] = s.startupError;
+    if (s.space == ChainSpace::Multiplexed) p["max_length"] = maxEdges();
+    return p;
+}
+
+void MltJob::runPathSpace(const RunControl& control, const PathDump& dump, SampleFilm& film, MltOutcome& out,
+                          std::vector<file::StatTable>& prepared) {
+    const MltSettings& s = settings_;
+    const PathTarget target =
+        s.target == ChainTarget::Gradient ? gradientTarget(scene_, s.gradientAlpha, s.shiftThreshold) : PathTarget{};
+    const auto note = [&](const std::string& line) {
+        if (control.note) control.note(line);
+    };
+    const auto phase = [&](const char* what) {
+        RunProgress p;
+        p.phase = what;
+        if (control.progress) control.progress(p);
+    };
+    if (!seeds_) {
+        // No seed file: a BDPT start-up of its own, as lt-seed --paths would make it.
+        phase("seeding with BDPT");
+        RunControl seeding(control.threads);
+        seeding.stop = control.stop;
+        seeds_ = seedWithBdpt(scene_, s.paths, s.startupSamples, std::max<size_t>(4 * size_t(s.run.chains), 1024),
+                              s.run.seed ^ 0x5eedULL, seeding, target);
+        std::ostringstream line;
+        line << "seeded with BDPT (" << s.startupSamples << " samples): b = " << seeds_->b.b();
+        note(line.str());
+    }
+    OptionValues values = s.mutationValues;
+    for (const auto& e : choice_.chosen) {
+        if (!e.kind->prepare) continue;
+        values.setDefaults(e.kind->options);
+        phase(("preparing the " + e.kind->name + " " + e.kind->noun).c_str());
+        if (const auto found = e.kind->prepare({scene_, features_, seeds_->paths, s.run.seed, control.stop}, values)) {
+            prepared.push_back(found->table);
+            note(found->message);
+        }
+    }
+    std::vector<std::unique_ptr<Mutation>> owned;
+    std::vector<WeightedMutation> mix;
+    makeMutations(choice_, {scene_, maxEdges()}, values, owned, mix);
+    out.stats = runPathSpaceChains(scene_, *seeds_, mix, s.run, s.paths, s.refineB, film, control, dump, target);
+    out.streamEnd = file::valueTable("normalization", {{"b", out.stats.normalization.b()},
+                                                       {"b_samples", double(out.stats.normalization.samples())},
+                                                       {"mutations", double(out.stats.mutations)}});
+}
+
+MltOutcome MltJob::run(const RunControl& control, const PathDump& dump) {
+    const MltSettings& s = settings_;
+    SampleFilm film(scene_.camera);
+    const double pixels = double(film.width()) * double(film.height());
+    MltOutcome out;
+    std::vector<file::StatTable> prepared;
+    if (pathSpace()) {
+        runPathSpace(control, dump, film, out, prepared);
+    } else {
+        PrimarySpaceSettings ps;
+        ps.space = s.space == ChainSpace::Primary ? PrimarySpace::Kelemen : PrimarySpace::Multiplexed;
+        ps.paths = s.paths;
+        ps.unboundedEdges = s.unboundedEdges;
+        ps.largeStepProbability = s.largeStep;
+        ps.startupSamples = s.startupSamples;
+        ps.startupError = s.startupError;
+        out.stats = runPrimarySpaceChains(scene_, ps, s.run, film, control);
+    }
+    const ChainRunStats& st = out.stats;
+    if (s.run.timeLimit > 0 && st.startupSeconds > s.run.timeLimit)
+        out.notes.push_back("warning: the start-up took " + formatSeconds(st.startupSeconds) +
+                            ", longer than --time; the chains ran one round (lower --startup-samples)");
+    out.image = film.toBuffer(st.b);
+    out.tables.push_back(runTable(st, {{"mutations", double(st.mutations)},
+                                       {"mutations_per_pixel", double(st.mutations) / pixels},
+                                       {"chains", double(s.run.chains)},
+                                       {"startup_seconds", st.startupSeconds}}));
+    const NormalizationEstimate& b = st.normalization;
+    std::vector<std::pair<std::string, double>> norm = {{"b", b.b()},
+                                                        {"b_relative_standard_error", b.relativeStandardError()},
+                                                        {"b_samples", double(b.samples())},
+                                                        {"startup_samples", double(st.startupSamples)}};
+    if (pathSpace()) {
+        norm.emplace_back("unusable_seeds", double(st.unusableSeeds));
+    } else {
+        norm.emplace_back("startup_work", st.startupWork);
+        norm.emplace_back("startup_relative_standard_error", st.startupError);
+    }
+    if (s.target != ChainTarget::Luminance) norm.emplace_back("film_b", st.b);
+    if (seedFileB_) norm.emplace_back("b_seed_file", *seedFileB_);
+    out.tables.push_back(file::valueTable("normalization", norm));
+    out.tables.push_back(st.strategies.table());
+    for (auto& t : st.strategies.figureTables())
+        out.tables.push_back(std::move(t));
+    for (auto& t : prepared)
+        out.tables.push_back(std::move(t));
+    if (s.space == ChainSpace::Multiplexed) {
+        file::StatTable lengths{
+            "path_lengths", {"b", "b_standard_error", "b_samples", "chains_started", "mutations"}, {}, {}};
+        for (size_t k = 1; k < b.strata(); ++k) {
+            lengths.rows.push_back(std::to_string(k) + " edges");
+            lengths.values.push_back({b.stratumB(k), b.stratumStandardError(k), double(b.stratumSamples(k)),
+                                      double(st.chainsPerLength[k]), double(st.mutationsPerLength[k])});
+        }
+        out.tables.push_back(lengths);
+    }
+    out.summary = summary(out);
+    out.rates = rates(st, pixels);
+    return out;
+}
+
+std::string MltJob::summary(const MltOutcome& out) const {
+    const ChainRunStats& st = out.stats;
+    const NormalizationEstimate& b = st.normalization;
+    std::ostringstream o;
+    // A seed file's b comes without its spread: with --refine-b 0 nothing measures it.
+    const double se = b.relativeStandardError();
+    o << "b = " << b.b();
+    if (std::isfinite(se))
+        o << " +- " << std::setprecision(2) << 100 * se << "%";
+    else
+        o << " (standard error unknown)";
+    o << " from " << b.samples() << " samples (" << st.startupSamples
+      << (pathSpace() ? " of the seed run" : " of the start-up") << ", " << b.samples() - st.startupSamples
+      << " during the run)";
+    if (!pathSpace())
+        o << "; the start-up ended at b +- " << std::setprecision(2) << 100 * st.startupError << "% after "
+          << std::lround(100 * st.startupWork) << "% of its budget";
+    o << std::setprecision(6);
+    if (pathSpace())
+        o << "; chains started from " << seeds_->paths.size() << " seed paths (" << st.unusableSeeds
+          << " unusable draws skipped)";
+    o << '\n' << st.strategies.text();
+    if (settings_.space == ChainSpace::Multiplexed) {
+        o << "path lengths (edges: share of b +- standard error, share of the mutations, chains started there):\n";
+        // Lengths with under 0.01 % of b and of the mutations are summed in one line.
+        double restB = 0, restMutations = 0;
+        size_t rest = 0;
+        for (size_t k = 1; k < b.strata(); ++k) {
+            const double shareB = b.stratumB(k) / b.b();
+            const double shareM = double(st.mutationsPerLength[k]) / double(std::max<uint64_t>(1, st.mutations));
+            if (shareB < 1e-4 && shareM < 1e-4) {
+                restB += shareB;
+                restMutations += shareM;
+                ++rest;
+                continue;
+            }
+            o << "  " << std::setw(2) << k << ": " << std::setprecision(3) << std::setw(6) << 100 * shareB << "% +- "
+              << std::setw(6) << 100 * b.stratumStandardError(k) / b.b() << "%, " << std::setw(6) << 100 * shareM
+              << "%, " << st.chainsPerLength[k] << '\n';
+        }
+        if (rest)
+            o << "  " << rest << " other lengths, each under 0.01 %: " << std::setprecision(2) << 100 * restB
+              << "% of b, " << 100 * restMutations << "% of the mutations together\n";
+    }
+    return o.str();
+}
+
+std::string MltJob::rates(const ChainRunStats& st, double pixels) {
+    std::ostringstream o;
+    o << (st.interrupted ? "interrupted after " : "") << std::setprecision(4) << double(st.mutations) / pixels
+      << " mutations/pixel in " << formatSeconds(st.wallSeconds) << " (" << std::setprecision(3)
+      << double(st.mutations) / st.wallSeconds / 1e3 << "k mutations/s, " << double(st.rays) / st.wallSeconds / 1e6
+      << "M rays/s)" << nonFiniteNote(st.health, "samples");
+    return o.str();
+}
+
+} // namespace lt

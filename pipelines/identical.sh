@@ -12,6 +12,7 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 [ $# -ge 2 ] || { sed -n '2,9p' "$0" >&2; exit 2; }
 bin_a="$(cd "$1" && pwd)"; bin_b="$(cd "$2" && pwd)"
 out="${3:-$(mktemp -d "${TMPDIR:-/tmp}/lt-identical.XXXXXX")}"
+out="$(mkdir -p "$out" && cd "$out" && pwd)"
 res="${RES:-24}"; threads="${THREADS:-2}"
 scenes="${SCENES:-$(cd "$root/scenes" && ls -d */ | tr -d /)}"
 compare="$root/pipelines/lib/lt_compare.py"
@@ -36,16 +37,16 @@ run() {
   fi
 }
 
-for scene_name in $scenes; do
-  scene="$root/scenes/$scene_name/scene.xml"
-  for side in a b; do mkdir -p "$out/$side/$scene_name"; done
-  common=(--resolution "${res}x$res" --threads "$threads" --seed 7)
-  s="$scene_name"
+# Every method on one scene: render_all NAME SCENE SIZE_OPTIONS... (--resolution, or -D for a scene's size).
+render_all() {
+  local s="$1" scene="$2"; shift 2
+  local size=("$@" --threads "$threads") common=("$@" --threads "$threads" --seed 7)
+  for side in a b; do mkdir -p "$out/$side/$s"; done
   run "$s/bdpt" lt-seed "$scene" "${common[@]}" --spp 4 --snapshot-samples 1,2 -o "@/$s/bdpt.lts" --paths "@/$s/seeds.ltp" --max-paths 4000
   run "$s/bdpt-balance-sobol" lt-seed "$scene" "${common[@]}" --spp 4 --mis balance --sampler sobol --tile 8 -o "@/$s/bdpt-balance-sobol.lts"
   run "$s/pt" lt-seed "$scene" "${common[@]}" --method pt --spp 8 --max-depth 5 --rr-depth 2 -o "@/$s/pt.lts"
   run "$s/pt-sobol" lt-seed "$scene" "${common[@]}" --method pt --spp 8 --sampler sobol -o "@/$s/pt-sobol.lts"
-  chains=(--chains 16 --mutations-per-pixel 8 --round 32)
+  local chains=(--chains 16 --mutations-per-pixel 8 --round 32)
   run "$s/mlt" lt-mutate "$scene" "@/$s/seeds.ltp" "${common[@]}" "${chains[@]}" --snapshot-mutations 2,4 \
     --dump-paths "@/$s/mlt-dump.ltp" --dump-every 16 -o "@/$s/mlt.lts"
   run "$s/mlt-self" lt-mutate "$scene" "${common[@]}" "${chains[@]}" --startup-samples 3000 --refine-b 0.25 -o "@/$s/mlt-self.lts"
@@ -62,13 +63,22 @@ for scene_name in $scenes; do
     --large-step 0.5 --max-length-unbounded 6 --startup-error 0 -o "@/$s/mmlt.lts"
   run "$s/gdmlt-chains" lt-mutate "$scene" "@/$s/seeds.ltp" "${common[@]}" "${chains[@]}" --target gradient \
     --gradient-alpha 0.3 --stream "@/$s/gdmlt.ltp" -o "@/$s/gdmlt-chains.lts"
-  run "$s/gdmlt" lt-gradient "$scene" --resolution "${res}x$res" --threads "$threads" --from-paths "@/$s/gdmlt.ltp" \
-    -o "@/$s/gdmlt.lts"
+  run "$s/gdmlt" lt-gradient "$scene" "${size[@]}" --from-paths "@/$s/gdmlt.ltp" -o "@/$s/gdmlt.lts"
   run "$s/gpt" lt-gradient "$scene" "${common[@]}" --method gpt --spp 4 --snapshot-samples 2 -o "@/$s/gpt.lts"
   run "$s/gdpr" lt-gradient "$scene" "${common[@]}" --spp 4 --tile 4 --rr-delta 0.2 --rr-min 0.2 -o "@/$s/gdpr.lts"
   run "$s/gdpr-l1" lt-reconstruct "@/$s/gdpr.lts" --norm l1 -o "@/$s/gdpr-l1.lts"
   run "$s/gpt-l2" lt-reconstruct "@/$s/gpt.lts" -o "@/$s/gpt-l2.lts"
+}
+
+for scene_name in $scenes; do
+  render_all "$scene_name" "$root/scenes/$scene_name/scene.xml" --resolution "${res}x$res"
 done
+# A film with a crop window (which --resolution removes): the estimators and the chains count its pixels only.
+cropped="$out/cropped-cornell-spheres.xml"
+sed 's|<integer name="height" value="\$res"/>|&<integer name="cropOffsetX" value="5"/><integer name="cropOffsetY" value="3"/><integer name="cropWidth" value="14"/><integer name="cropHeight" value="11"/>|' \
+  "$root/scenes/cornell-spheres/scene.xml" > "$cropped"
+grep -q cropWidth "$cropped" || { echo "identical.sh: could not add a crop window to cornell-spheres"; exit 1; }
+render_all cropped "$cropped" -D "res=$res"
 
 pairs=0
 while IFS= read -r f; do

@@ -32,7 +32,7 @@ file::StatTable ShiftStatistics::table() const {
 std::string ShiftStatistics::summary(bool roulette) const {
     const double n = std::max<double>(1, double(shifts));
     std::ostringstream out;
-    out << std::setprecision(3) << double(shifts)
+    out << uint64_t(shifts) << std::setprecision(3)
         << " shifts: " << 100 * double(causes[size_t(ShiftCause::Reconnected)]) / n << "% reconnected, "
         << 100 * double(causes[size_t(ShiftCause::Mismatch)]) / n << "% mismatched, "
         << 100 * double(causes[size_t(ShiftCause::Occluded)]) / n << "% occluded";

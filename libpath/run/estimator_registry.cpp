@@ -25,7 +25,7 @@ std::vector<const EstimatorKind*> estimatorKinds(const std::vector<std::string>&
     std::vector<const EstimatorKind*> out;
     for (const auto& name : names) {
         const EstimatorKind* found = nullptr;
-        for (const EstimatorKind* k : Kinds)
+        for (const EstimatorKind* k : estimatorKinds())
             if (k->name == name) found = k;
         if (!found) throw Error("no pixel estimator named '" + name + "'");
         out.push_back(found);

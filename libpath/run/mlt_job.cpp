@@ -71,7 +71,7 @@ nlohmann::json MltJob::parameters() const {
     }
     if (pathSpace()) {
         p["refine_b"] = s.refineB;
-        if (!seeds_) p["startup_samples"] = s.startupSamples;
+        if (!seeded()) p["startup_samples"] = s.startupSamples;
         p.update(mutationParameters(choice_, s.mutationValues));
         p["max_length"] = maxEdges();
         return p;
@@ -93,13 +93,13 @@ void MltJob::runPathSpace(const RunControl& control, const PathDump& dump, Sampl
     const auto note = [&](const std::string& line) {
         if (control.note) control.note(line);
     };
-    const auto phase = [&](const char* what) {
+    const auto phase = [&](const std::string& what) { // RunProgress::phase points into `what` for the call
         RunProgress p;
-        p.phase = what;
+        p.phase = what.c_str();
         if (control.progress) control.progress(p);
     };
-    if (!seeds_) {
-        // No seed file: a BDPT start-up of its own, as lt-seed --paths would make it.
+    if (!seeded()) {
+        // No seed paths: a BDPT start-up of its own, as lt-seed --paths would make it.
         phase("seeding with BDPT");
         RunControl seeding(control.threads);
         seeding.stop = control.stop;
@@ -113,7 +113,7 @@ void MltJob::runPathSpace(const RunControl& control, const PathDump& dump, Sampl
     for (const auto& e : choice_.chosen) {
         if (!e.kind->prepare) continue;
         values.setDefaults(e.kind->options);
-        phase(("preparing the " + e.kind->name + " " + e.kind->noun).c_str());
+        phase("preparing the " + e.kind->name + " " + e.kind->noun);
         if (const auto found = e.kind->prepare({scene_, features_, seeds_->paths, s.run.seed, control.stop}, values)) {
             prepared.push_back(found->table);
             note(found->message);
@@ -151,10 +151,11 @@ MltOutcome MltJob::run(const RunControl& control, const PathDump& dump) {
         out.notes.push_back("warning: the start-up took " + formatSeconds(st.startupSeconds) +
                             ", longer than --time; the chains ran one round (lower --startup-samples)");
     out.image = film.toBuffer(st.b);
-    out.tables.push_back(runTable(st, {{"mutations", double(st.mutations)},
-                                       {"mutations_per_pixel", double(st.mutations) / pixels},
-                                       {"chains", double(s.run.chains)},
-                                       {"startup_seconds", st.startupSeconds}}));
+    out.tables.push_back(runTable(st,
+                                  {{"mutations", double(st.mutations)},
+                                   {"mutations_per_pixel", double(st.mutations) / pixels},
+                                   {"chains", double(s.run.chains)}},
+                                  {{"startup_seconds", st.startupSeconds}}));
     const NormalizationEstimate& b = st.normalization;
     std::vector<std::pair<std::string, double>> norm = {{"b", b.b()},
                                                         {"b_relative_standard_error", b.relativeStandardError()},

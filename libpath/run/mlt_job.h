@@ -75,6 +75,8 @@ public:
 
 private:
     [[nodiscard]] bool pathSpace() const { return settings_.space == ChainSpace::Path; }
+    // Whether the chains have seed paths to start from (a seed file with none leaves the path space to seed itself).
+    [[nodiscard]] bool seeded() const { return seeds_ && !seeds_->paths.empty(); }
     [[nodiscard]] int maxEdges() const;
     // Seeds (unless a seed file did), prepares the mutations (their tables into `prepared`) and runs the chains.
     void runPathSpace(const RunControl& control, const PathDump& dump, SampleFilm& film, MltOutcome& out,

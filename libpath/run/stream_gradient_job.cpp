@@ -37,11 +37,9 @@ StreamGradientOutcome StreamGradientJob::run(const RunControl& control) {
     ShiftStatistics shifts;
     out.stats = gradientsFromStream(scene_, stream_, settings_, out.image, shifts, control);
     const ChainStreamStats& s = out.stats;
-    out.tables.push_back(runTable(s, {{"rounds", double(s.rounds)},
-                                      {"states", double(s.states)},
-                                      {"mutations", double(s.mutations)},
-                                      {"chain_wall_seconds", s.chainWallSeconds},
-                                      {"own_seconds", s.ownSeconds}}));
+    out.tables.push_back(
+        runTable(s, {{"rounds", double(s.rounds)}, {"states", double(s.states)}, {"mutations", double(s.mutations)}},
+                 {{"chain_wall_seconds", s.chainWallSeconds}, {"own_seconds", s.ownSeconds}}));
     out.tables.push_back(file::valueTable("normalization", {{"b", s.b}, {"b_samples", double(s.bSamples)}}));
     out.tables.push_back(shifts.table());
     const Film& film = scene_.camera.film();

@@ -83,9 +83,10 @@ private:
 template <class Item>
 void ParallelRun::ordered(const std::function<bool(Item&)>& issue, const std::function<void(Item&)>& work,
                           const std::function<void(Item&)>& merge) {
-    // Items complete in issue order (the last stage is serial in order), so the oldest item in flight is always
-    // the one whose slot the next issue reuses: `tokens` slots hold every item, and nothing is left allocated
-    // when a stage throws.
+    // oneTBB hands a token back only after the last stage's body has returned, and that stage takes the items in
+    // issue order: when item k is issued at most tokens - 1 items are in flight, all after item k - tokens, whose
+    // slot it therefore reuses. `tokens` slots hold every item, and nothing is left allocated when a stage throws.
+    // A reused slot holds its last item's values: `issue` and `work` set every field they read.
     const size_t tokens = size_t(2 * threads_ + 2);
     std::vector<Item> slots(tokens);
     uint64_t issued = 0;

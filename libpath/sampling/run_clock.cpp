@@ -42,15 +42,16 @@ void RunClock::snapshot(const RunSnapshotCallback& write, const RunProgress& pro
     snapshotSeconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-file::StatTable runTable(const RunRecord& record, std::vector<std::pair<std::string, double>> rows) {
-    rows.insert(rows.end(), {{"wall_seconds", record.wallSeconds},
-                             {"cpu_seconds", record.cpuSeconds},
-                             {"rays", double(record.rays)},
-                             {"nonfinite_dropped", double(record.health.nonFinite)},
-                             {"interrupted", record.interrupted ? 1.0 : 0.0},
-                             {"snapshots", double(record.snapshots)},
-                             {"snapshot_seconds", record.snapshotSeconds}});
-    return file::valueTable("run", rows);
+file::StatTable runTable(const RunRecord& record, std::vector<std::pair<std::string, double>> counts,
+                         const std::vector<std::pair<std::string, double>>& times) {
+    counts.insert(counts.end(), {{"wall_seconds", record.wallSeconds}, {"cpu_seconds", record.cpuSeconds}});
+    counts.insert(counts.end(), times.begin(), times.end());
+    counts.insert(counts.end(), {{"rays", double(record.rays)},
+                                 {"nonfinite_dropped", double(record.health.nonFinite)},
+                                 {"interrupted", record.interrupted ? 1.0 : 0.0},
+                                 {"snapshots", double(record.snapshots)},
+                                 {"snapshot_seconds", record.snapshotSeconds}});
+    return file::valueTable("run", counts);
 }
 
 void RunClock::close(RunRecord& record) const {

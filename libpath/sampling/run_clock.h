@@ -47,9 +47,11 @@ struct RunRecord {
     double snapshotSeconds = 0;
 };
 
-// The "run" STAT table of a run's output (formats/SPEC.md): `rows`, what this kind of run counted (samples,
-// mutations, ...), then what every run records: its times, rays, dropped samples, interruption and snapshots.
-[[nodiscard]] file::StatTable runTable(const RunRecord& record, std::vector<std::pair<std::string, double>> rows);
+// The "run" STAT table of a run's output (formats/SPEC.md): `counts`, what this kind of run counted (samples,
+// mutations, ...), its wall and CPU seconds, `times`, the times of its parts (a start-up's), then what every run
+// records besides: its rays, dropped samples, interruption and snapshots.
+[[nodiscard]] file::StatTable runTable(const RunRecord& record, std::vector<std::pair<std::string, double>> counts,
+                                       const std::vector<std::pair<std::string, double>>& times = {});
 
 class RunClock {
 public:

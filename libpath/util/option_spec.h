@@ -6,9 +6,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include <charconv>
 #include <cmath>
 #include <functional>
-#include <set>
 #include <string>
 #include <vector>
 
@@ -28,27 +28,25 @@ struct OptionSpec {
     std::function<nlohmann::json(const std::string&)> parse;
 };
 
-// The values of a set of options, by key: given ones and the defaults of the others.
+// The values of a set of options, by key: those given and the defaults of the others.
 class OptionValues {
 public:
     // Sets `key` from `text` through the spec's parse; throws "FLAG: what is wrong".
-    void set(const OptionSpec& spec, const std::string& text, bool given) {
+    void set(const OptionSpec& spec, const std::string& text) {
         try {
             values_[spec.key] = spec.parse(text);
         } catch (const Error& e) {
             throw Error(spec.flag + ": " + e.what());
         }
-        if (given) given_.insert(spec.key);
     }
     // The defaults of `specs` for every key not set yet.
     void setDefaults(const std::vector<OptionSpec>& specs) {
         for (const auto& s : specs)
-            if (!values_.contains(s.key)) set(s, s.defaultText, false);
+            if (!values_.contains(s.key)) set(s, s.defaultText);
     }
     // A value the library derives before use (a pre-run's measurement), for whoever reads the values next.
     void put(const std::string& key, nlohmann::json value) { values_[key] = std::move(value); }
     [[nodiscard]] bool has(const std::string& key) const { return values_.contains(key); }
-    [[nodiscard]] bool given(const std::string& key) const { return given_.count(key) > 0; }
     [[nodiscard]] const nlohmann::json& at(const std::string& key) const {
         if (!values_.contains(key)) throw Error("no value for option '" + key + "'");
         return values_.at(key);
@@ -64,7 +62,6 @@ public:
 
 private:
     nlohmann::json values_ = nlohmann::json::object();
-    std::set<std::string> given_;
 };
 
 namespace option {
@@ -84,14 +81,15 @@ inline auto nonNegative() {
     return number([](double v) { return v >= 0; }, "must be a number >= 0");
 }
 
-// A whole number in [lo, hi], recorded as an integer.
+// A whole number in [lo, hi], written as one ("6", not "6.0"), recorded as an integer.
 inline std::function<nlohmann::json(const std::string&)> integer(int lo, int hi) {
     return [lo, hi](const std::string& text) -> nlohmann::json {
-        const auto v = numberFromText(text);
-        if (!v || !(*v >= lo && *v <= hi) || *v != std::floor(*v))
+        int v = 0;
+        const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), v);
+        if (error != std::errc() || end != text.data() + text.size() || v < lo || v > hi)
             throw Error("must be a whole number from " + std::to_string(lo) + " to " + std::to_string(hi) + ", got " +
                         text);
-        return int(*v);
+        return v;
     };
 }
 

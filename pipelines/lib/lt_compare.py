@@ -4,8 +4,8 @@
     lt_compare.py A B    exit 0 when A and B hold the same estimates, 1 (with one line per difference) when not
 
 Compared exactly: every BUFR and PATH payload; every SNAP's sample count and buffer; every CHST's mutation
-count, b, b's sample count and states; every STAT table's names and values, but for the columns and rows that
-hold times (seconds, rates); INFO's "parameters" object. Left out: INFO's command, times and version, the
+count, b, b's sample count and states; every STAT table's rows and columns (in order) and values, but for the
+values of the columns and rows that hold times (seconds, rates); INFO's "parameters" object. Left out: INFO's command, times and version, the
 times of SNAP and CHST chunks, and the order of STAT tables (a tool may write them in another order).
 Standard library only (formats/SPEC.md).
 """
@@ -46,7 +46,7 @@ def stat_table(payload):
     cols = [string() for _ in range(columns)]
     names = [string() for _ in range(rows)]
     values = struct.unpack_from(f"<{rows * columns}d", payload, at)
-    table = {}
+    table = {("order of rows", "and columns"): (tuple(names), tuple(cols))}
     for r, row in enumerate(names):
         for c, col in enumerate(cols):
             if any(w in row or w in col for w in TIME_WORDS):

@@ -35,6 +35,8 @@ public:
     // The tool's body: exit code 0, or 128 + the signal that stopped it early.
     int run(int argc, char** argv) {
         checkOptions();
+        s_.mutationValues = mutationOptions_.given(app_);
+        s_.run.snapshots = run_.snapshots();
         requireChainMemory(s_.run.chains); // before the scene and the start-up, which keeps 4 seeds per chain
         auto scene = run_.loadScene();
         std::optional<PathSpaceSeeds> seeds;
@@ -57,9 +59,7 @@ public:
         const PathDump dump = openDumps(params, scene.get(), argc, argv, dumpWriter, streamWriter);
 
         Progress progress("lt-mutate", run_.quiet);
-        const Film& film = scene->camera.film();
-        RunControl control =
-            run_.control(progress, writer, double(film.width) * double(film.height), "mutations/pixel");
+        RunControl control = run_.control(progress, writer, RunOptions::pixels(*scene), "mutations/pixel");
         control.start = std::chrono::steady_clock::now(); // the seeding counts toward the run's time
         const MltOutcome out = job.run(control, dump);
         progress.finish();
@@ -67,10 +67,7 @@ public:
         if (streamWriter) streamWriter->finish(out.streamEnd);
         for (const auto& note : out.notes)
             run_.tell(note);
-        writer.writeBuffer(out.image);
-        for (const auto& t : out.tables)
-            writer.writeStats(t);
-        writer.finish();
+        RunOptions::finish(writer, out.image, out.tables);
         if (!run_.quiet)
             std::cerr << "lt-mutate: " << out.summary << "lt-mutate: " << out.rates << " -> " << writer.name() << '\n';
         return out.stats.interrupted ? interruptedExitCode() : 0;
@@ -175,12 +172,10 @@ private:
         MltSettings s = s_;
         s.space = chainSpace(space_);
         s.paths = run_.paths(scene);
-        const double pixels = double(scene.camera.film().width) * double(scene.camera.film().height);
-        s.run.mutations = mutations_ > 0 ? mutations_ : uint64_t(std::llround(mutationsPerPixel_ * pixels));
+        s.run.mutations =
+            mutations_ > 0 ? mutations_ : uint64_t(std::llround(mutationsPerPixel_ * RunOptions::pixels(scene)));
         s.run.timeLimit = run_.timeLimit;
         s.run.seed = run_.seed;
-        s.run.snapshots = run_.snapshots();
-        s.mutationValues = mutationOptions_.given(app_);
         s.target = target_ == "gradient" ? ChainTarget::Gradient : ChainTarget::Luminance;
         s.dumpEvery = dumpEvery_;
         s.stream = !streamPath_.empty();

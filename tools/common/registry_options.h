@@ -6,10 +6,12 @@
 
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <map>
 #include <string>
 #include <vector>
 
+#include "common/tool.h"
 #include "util/error.h"
 #include "util/option_spec.h"
 
@@ -17,31 +19,32 @@ namespace lt::tool {
 
 class RegistryOptions {
 public:
-    // Adds the options of `specs` to `app`, in order, once per flag.
+    // Adds the options of `specs` to `app`, in order, once per flag. A spec whose default lists several values
+    // ("MIN,MAX") takes them as one word with commas or as that many words, as CLI11 lists do.
     void add(CLI::App& app, const std::vector<OptionSpec>& specs) {
         for (const OptionSpec& spec : specs) {
             if (texts_.count(spec.flag)) continue;
             specs_.push_back(spec);
-            app.add_option(spec.flag, texts_[spec.flag], spec.help)
-                ->type_name(spec.typeName)
-                ->check(CLI::Validator(
-                    [parse = spec.parse](std::string& text) -> std::string {
-                        try {
-                            (void)parse(text);
-                            return {};
-                        } catch (const Error& e) {
-                            return e.what();
-                        }
-                    },
-                    ""));
+            const int values = 1 + int(std::count(spec.defaultText.begin(), spec.defaultText.end(), ','));
+            CLI::Option* o = app.add_option(spec.flag, texts_[spec.flag], spec.help)->type_name(spec.typeName);
+            if (values == 1)
+                o->check(optionCheck("", spec.parse));
+            else
+                o->expected(values)->delimiter(','); // checked whole, by given()
         }
     }
 
-    // The values of the options given on the command line (their defaults are the library's to fill in).
+    // The values of the options given on the command line (their defaults are the library's to fill in); throws
+    // lt::Error "FLAG: what is wrong" for a value its spec refuses.
     [[nodiscard]] OptionValues given(const CLI::App& app) const {
         OptionValues values;
         for (const OptionSpec& spec : specs_)
-            if (app.count(spec.flag)) values.set(spec, texts_.at(spec.flag), true);
+            if (app.count(spec.flag)) {
+                std::string text;
+                for (const auto& part : texts_.at(spec.flag))
+                    text += (text.empty() ? "" : ",") + part;
+                values.set(spec, text);
+            }
         return values;
     }
 
@@ -58,7 +61,7 @@ public:
 
 private:
     std::vector<OptionSpec> specs_;
-    std::map<std::string, std::string> texts_; // the text given, by flag
+    std::map<std::string, std::vector<std::string>> texts_; // the words given, by flag
 };
 
 } // namespace lt::tool

@@ -64,6 +64,7 @@ public:
             **std::find_if(kinds_.begin(), kinds_.end(), [&](const EstimatorKind* k) { return k->name == method_; });
         checkOptions(kind);
         const OptionValues values = withDefaults(kind);
+        const SnapshotSchedule snapshots = run_.snapshots();
         auto scene = run_.loadScene();
         const PathSettings paths = run_.paths(*scene, rrDepth_);
         RenderSettings rs;
@@ -73,7 +74,7 @@ public:
         rs.seed = run_.seed;
         rs.sampler = sampler_ == "sobol" ? SamplerKind::Sobol : SamplerKind::Independent;
         rs.tileSize = tile_;
-        rs.snapshots = run_.snapshots();
+        rs.snapshots = snapshots;
         if (kind.warning)
             if (const std::string w = kind.warning(values); !w.empty())
                 std::cerr << app_.get_name() << ": warning: " << w << '\n';
@@ -98,15 +99,12 @@ public:
         }
 
         const auto estimator = kind.make(*scene, paths, values);
-        const double pixels = double(scene->camera.film().width) * scene->camera.film().height;
+        const double pixels = RunOptions::pixels(*scene);
         Progress progress(app_.get_name(), run_.quiet);
         const RenderOutcome out = renderImage(*scene, *estimator, rs, run_.control(progress, writer, pixels, "spp"),
                                               reservoir ? &*reservoir : nullptr);
         progress.finish();
-        writer.writeBuffer(out.image);
-        for (const auto& t : out.tables)
-            writer.writeStats(t);
-        writer.finish();
+        RunOptions::finish(writer, out.image, out.tables);
         if (pathWriter) {
             const auto written = writeSeedFile(*pathWriter, *reservoir, out.stats.samples, pixels);
             run_.tell("b = " + numberText(written.b) + " (" + std::to_string(reservoir->candidates()) +

@@ -38,7 +38,8 @@ struct RunOptions {
     double timeLimit = 0;
     uint64_t seed = 0;
     bool strict = false, quiet = false;
-    // When the tool started: a pipeline's stages start together, and a run's clock counts from here.
+    // When the tool started: a stage of a pipe (lt-gradient --from-paths) counts its time from here, since the
+    // stages of a pipe start together.
     std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
     std::string tool;
 
@@ -79,6 +80,12 @@ struct RunOptions {
         return p;
     }
 
+    // The pixels of the scene's film that an image has (its crop window): what "per pixel" counts.
+    [[nodiscard]] static double pixels(const Scene& scene) {
+        return double(scene.camera.film().cropWidth) * double(scene.camera.film().cropHeight);
+    }
+
+    // The snapshot schedule; throws for both kinds given or one that does not parse (call it before any work).
     [[nodiscard]] SnapshotSchedule snapshots() const {
         if (!snapshotTimes.empty() && !snapshotCounts.empty())
             throw Error("give --snapshots or " + countFlag_ + ", not both");
@@ -108,6 +115,14 @@ struct RunOptions {
         c.progress = runProgress(progress, pixels, unit);
         if (!quiet) c.note = [name = tool](const std::string& line) { std::cerr << name << ": " << line << '\n'; };
         return c;
+    }
+
+    // The end of an output: its final buffer, its tables, END!.
+    static void finish(file::Writer& writer, const file::Buffer& image, const std::vector<file::StatTable>& tables) {
+        writer.writeBuffer(image);
+        for (const auto& t : tables)
+            writer.writeStats(t);
+        writer.finish();
     }
 
     // A line for the user unless quiet.

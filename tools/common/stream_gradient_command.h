@@ -50,16 +50,11 @@ public:
         file::Writer writer(run.out, file::FileKind::Buffer,
                             makeInfo(app_.get_name(), argc, argv, params, scene.get()));
         Progress progress(app_.get_name(), run.quiet);
-        const Film& film = scene->camera.film();
-        RunControl control =
-            run.control(progress, writer, double(film.cropWidth) * double(film.cropHeight), "mutations/pixel");
+        RunControl control = run.control(progress, writer, RunOptions::pixels(*scene), "mutations/pixel");
         control.start = run.start; // a pipe's stages start together (gdmlt/chain_stream.h: times)
         const StreamGradientOutcome out = job.run(control);
         progress.finish();
-        writer.writeBuffer(out.image);
-        for (const auto& t : out.tables)
-            writer.writeStats(t);
-        writer.finish();
+        RunOptions::finish(writer, out.image, out.tables);
         run.tell(out.summary + " -> " + writer.name());
         return out.stats.interrupted ? interruptedExitCode() : 0;
     }

@@ -12,7 +12,7 @@
 #include <string>
 
 #include "util/error.h"
-#include "util/number_text.h"
+#include "util/option_spec.h"
 
 namespace lt::tool {
 
@@ -35,36 +35,30 @@ inline int run(CLI::App& app, int argc, char** argv, const std::function<int()>&
     }
 }
 
-namespace detail {
-
-// The value of a numeric option's text, or nothing when it is not one finite number (nan, inf, 1x).
-inline std::optional<double> parseNumber(const std::string& text) {
-    const std::optional<double> v = numberFromText(text);
-    if (!v || !std::isfinite(*v)) return std::nullopt;
-    return v;
-}
-
-inline CLI::Validator numberCheck(const std::string& name, const std::function<bool(double)>& ok,
-                                  const std::string& what) {
-    return {[ok, what](std::string& text) -> std::string {
-                const auto v = parseNumber(text);
-                return v && ok(*v) ? std::string() : what + ", got " + text;
+// A CLI11 check that runs one of the library's option parsers (util/option_spec.h: the one reading and check of
+// a value, with its words for what is wrong), so the options of the tools and those of the registries are refused
+// alike. `name` is what --help shows after the type.
+inline CLI::Validator optionCheck(const std::string& name, std::function<nlohmann::json(const std::string&)> parse) {
+    return {[parse = std::move(parse)](std::string& text) -> std::string {
+                try {
+                    (void)parse(text);
+                    return {};
+                } catch (const Error& e) {
+                    return e.what();
+                }
             },
             name};
 }
 
-} // namespace detail
-
 // Checks for numeric options. CLI11's own PositiveNumber and NonNegativeNumber (2.1) answer "not in range
 // 0.000000 to" followed by the largest double written out in 309 digits; these say what is wrong in words.
-inline const CLI::Validator PositiveNumber =
-    detail::numberCheck("POSITIVE", [](double v) { return v > 0; }, "must be a positive number");
-inline const CLI::Validator NonNegativeNumber =
-    detail::numberCheck("NONNEGATIVE", [](double v) { return v >= 0; }, "must be a number >= 0");
+inline const CLI::Validator PositiveNumber = optionCheck("POSITIVE", option::positive());
+inline const CLI::Validator NonNegativeNumber = optionCheck("NONNEGATIVE", option::nonNegative());
 // --threads: 0 means all cores; more than MaxThreads workers is a typo, not a machine.
 inline constexpr int MaxThreads = 1024;
-inline const CLI::Validator ThreadCount = detail::numberCheck(
-    "0.." + std::to_string(MaxThreads), [](double v) { return v >= 0 && v <= MaxThreads && v == std::floor(v); },
-    "must be a whole number from 0 (all cores) to " + std::to_string(MaxThreads));
+inline const CLI::Validator ThreadCount =
+    optionCheck("0.." + std::to_string(MaxThreads),
+                option::number([](double v) { return v >= 0 && v <= MaxThreads && v == std::floor(v); },
+                               "must be a whole number from 0 (all cores) to " + std::to_string(MaxThreads)));
 
 } // namespace lt::tool

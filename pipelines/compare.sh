@@ -4,12 +4,12 @@
 # CSV against a reference, and a figure of the images side by side (full frame and an optional crop).
 #   pipelines/compare.sh SCENE --time SECONDS --methods "pt bdpt" [--ref REF.exr] [--crop X,Y,W,H]
 #                        [--out DIR] [-- options for every tool, e.g. --resolution 320x240 --threads 2]
-# Methods: pipelines/lib/methods.bash (pt, bdpt, mlt, pssmlt, mmlt, memlt, hslt, mlt-lens, portal, gpt, gdpr,
-# gpt-l1, gdpr-l1, mlt-gd, gdmlt, mlt-gd-l1, gdmlt-l1).
+# Methods: pipelines/lib/methods.bash (pt, bdpt, mlt, pssmlt, mmlt, mlt-nosplit, pssmlt-nosplit, mmlt-nosplit, memlt,
+# hslt, mlt-lens, portal, gpt, gdpr, gpt-l1, gdpr-l1, mlt-gd, gdmlt, mlt-gd-l1, gdmlt-l1).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 bin="${BUILD_DIR:-$root/build}/bin"
-usage() { echo "usage: $0 SCENE --time SECONDS --methods \"pt bdpt mlt pssmlt mmlt memlt hslt mlt-lens portal gpt gdpr gpt-l1 gdpr-l1 mlt-gd gdmlt mlt-gd-l1 gdmlt-l1\" [--ref REF.exr] [--crop X,Y,W,H] [--out DIR] [-- tool options]" >&2; exit 2; }
+usage() { echo "usage: $0 SCENE --time SECONDS --methods \"pt bdpt mlt pssmlt mmlt mlt-nosplit pssmlt-nosplit mmlt-nosplit memlt hslt mlt-lens portal gpt gdpr gpt-l1 gdpr-l1 mlt-gd gdmlt mlt-gd-l1 gdmlt-l1\" [--ref REF.exr] [--crop X,Y,W,H] [--out DIR] [-- tool options]" >&2; exit 2; }
 [ $# -ge 1 ] || usage
 scene="$1"; shift
 time=""; methods=""; ref=""; crop=""; out=""; extra=()

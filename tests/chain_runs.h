@@ -46,6 +46,19 @@ inline SeededScene seededScene(const std::string& name, int maxDepth, uint64_t s
     return {std::move(scene), std::move(seeds)};
 }
 
+// A BDPT render of the scene's film: `spp` samples per pixel with seed `seed`, paths of up to `maxDepth` edges.
+inline SampleFilm bdptFilm(const Scene& scene, int maxDepth, int spp, uint64_t seed) {
+    PathSettings b;
+    b.maxDepth = maxDepth;
+    SampleFilm film(scene.camera);
+    RenderSettings rs;
+    rs.paths = b;
+    rs.spp = spp;
+    rs.seed = seed;
+    render(scene, Bdpt(scene, b), rs, film, RunControl(2));
+    return film;
+}
+
 // Image mean of a primary-space run.
 inline double imageMean(const std::vector<float>& rgb, int channel = 0) {
     double s = 0;
@@ -68,7 +81,7 @@ inline std::vector<float> runChains(const Scene& scene, PrimarySpace space, int 
     const auto st = runPrimarySpaceChains(scene, ps, rs, film, RunControl(threads));
     REQUIRE(st.health.nonFinite == 0);
     REQUIRE(st.mutations == mutations);
-    return film.develop(st.normalization.b());
+    return film.develop(st.b);
 }
 
 // Path-space MLT with a --strategies mix, seeded by its own BDPT run; `stats` (optional) accumulates
@@ -96,7 +109,7 @@ inline std::vector<float> runPathMix(const Scene& scene, const std::string& stra
         else
             stats->merge(st.strategies);
     }
-    return film.develop(st.normalization.b());
+    return film.develop(st.b);
 }
 
 inline std::vector<float> runPathChains(const Scene& scene, int maxDepth, uint64_t mutations, uint64_t seed,
@@ -134,17 +147,8 @@ inline void checkAgainstBdpt(Scene& scene, int depth, int runs,
             out.push_back(meanAndError(v));
         return out;
     };
-    PathSettings b;
-    b.maxDepth = depth;
-    const auto reference = collect([&](uint64_t seed) {
-        SampleFilm film(scene.camera);
-        RenderSettings rs;
-        rs.paths = b;
-        rs.spp = bdptSpp;
-        rs.seed = 100 + seed;
-        render(scene, Bdpt(scene, b), rs, film, RunControl(2));
-        return film.develop();
-    });
+    const auto reference =
+        collect([&](uint64_t seed) { return bdptFilm(scene, depth, bdptSpp, 100 + seed).develop(); });
     for (const auto& [name, renderer] : methods) {
         const auto chains = collect(renderer);
         int outliers = 0;

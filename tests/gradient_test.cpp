@@ -792,14 +792,18 @@ struct StreamedRun {
     double b = 0;
     file::Buffer gradients;
 };
+// `direct`: the direct split (sampling/direct_split.h): the chains without the paths of 1 and 2 edges, the gradient
+// stage rendering them into the direct plane.
 StreamedRun runStreamedChains(const Scene& scene, const std::string& file, uint64_t mutations, uint64_t seed,
-                              const PathTarget& target = {}) {
+                              const PathTarget& target = {}, DirectSplit direct = {-1}) {
     PathSettings bdpt;
     bdpt.maxDepth = scene.integrator.maxDepth;
+    bdpt = direct.chainPaths(bdpt);
     const auto seeds = seedWithBdpt(scene, bdpt, 20000, 1024, seed * 7919 + 1, RunControl(2), target);
     std::vector<std::unique_ptr<Mutation>> owned;
     std::vector<WeightedMutation> mix;
-    makeMutations(chooseMutations("bidirectional,lens", analyzeScene(scene)), {scene, bdpt.maxDepth}, {}, owned, mix);
+    makeMutations(chooseMutations("bidirectional,lens", analyzeScene(scene)), {scene, bdpt.maxDepth, bdpt.minDepth}, {},
+                  owned, mix);
     ChainRunSettings rs;
     rs.mutations = mutations;
     rs.chains = 32;
@@ -823,7 +827,10 @@ StreamedRun runStreamedChains(const Scene& scene, const std::string& file, uint6
     }
     file::Reader reader(file, file::FileKind::Paths);
     ShiftStatistics shifts;
-    const auto gs = gradientsFromStream(scene, reader, ChainStreamSettings{}, out.gradients, shifts, RunControl(2));
+    ChainStreamSettings settings;
+    settings.direct = direct;
+    settings.seed = seed;
+    const auto gs = gradientsFromStream(scene, reader, settings, out.gradients, shifts, RunControl(2));
     REQUIRE(gs.health.nonFinite == 0);
     return out;
 }
@@ -936,21 +943,25 @@ TEST_CASE("GDMLT: in the furnace the gradient target's chains give zero gradient
           "[gradient][gdmlt][long]") {
     test::TempDir dir;
     const auto scene = loadScene(test::furnaceBox(dir, 0.5, 4));
-    // Le * (1 + rho + rho^2 + rho^3), the directly seen emission in the direct plane.
+    // Le * (1 + rho + rho^2 + rho^3), the directly seen emission in the direct plane; with the direct split the direct
+    // plane holds the paths of 1 and 2 edges (1 + rho), rendered by the gradient stage, and the chains the rest.
     const double expected = 1 + 0.5 + 0.25 + 0.125;
     const PathTarget target = gradientTarget(*scene, 0.2, 0.001);
+    const int directSamples = GENERATE(-1, 16);
+    CAPTURE(directSamples);
     // Per independent run, the image means of primal + direct, dx and dy (a chain's pixels are correlated, so the
-    // standard errors come from the runs).
-    std::array<std::vector<double>, 3> means;
+    // standard errors come from the runs), and with the split of the direct plane.
+    std::array<std::vector<double>, 4> means;
     // 12 runs: each |mean - truth| / error is a Student t with 11 degrees of freedom, P(|t| > 5) about 4e-4.
     for (int run = 0; run < 12; ++run) {
-        const StreamedRun s =
-            runStreamedChains(*scene, (dir.path / "stream.ltp").string(), 24 * 24 * 32, 40 + uint64_t(run), target);
+        const StreamedRun s = runStreamedChains(*scene, (dir.path / "stream.ltp").string(), 24 * 24 * 32,
+                                                40 + uint64_t(run), target, DirectSplit{directSamples});
         const GradientImage g = gradientImageFromBuffer(s.gradients, "test");
-        double image = 0, dx = 0, dy = 0;
+        double image = 0, dx = 0, dy = 0, direct = 0;
         for (int y = 0; y < int(g.height); ++y)
             for (int x = 0; x < int(g.width); ++x) {
                 image += (at(g.primal, g.width, x, y) + at(*g.direct, g.width, x, y)).luminance();
+                direct += at(*g.direct, g.width, x, y).luminance();
                 if (x + 1 < int(g.width)) dx += at(g.dx, g.width, x, y).luminance();
                 if (y + 1 < int(g.height)) dy += at(g.dy, g.width, x, y).luminance();
             }
@@ -958,9 +969,10 @@ TEST_CASE("GDMLT: in the furnace the gradient target's chains give zero gradient
         means[0].push_back(image / pixels);
         means[1].push_back(dx / (pixels - g.height));
         means[2].push_back(dy / (pixels - g.width));
+        means[3].push_back(direct / pixels);
     }
-    const double truth[3] = {expected, 0, 0};
-    for (int p = 0; p < 3; ++p) {
+    const double truth[4] = {expected, 0, 0, directSamples > 0 ? 1.5 : 1.0};
+    for (int p = 0; p < 4; ++p) {
         const auto m = test::meanAndError(means[size_t(p)]);
         CAPTURE(p, m.mean, m.error);
         CHECK(std::abs(m.mean - truth[p]) <= 5 * m.error + 1e-12);

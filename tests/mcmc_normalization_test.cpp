@@ -153,20 +153,31 @@ TEST_CASE("a seed file's b needs its sample count, and says which file lacks it"
         c.stats.push_back(t);
         return c;
     };
-    const auto seeds = seedsFromFile(content({"b", "samples"}, {7.5, 4096}, "seeds.ltp"));
+    const auto seeds = seedsFromFile(content({"b", "samples"}, {7.5, 4096}, "seeds.ltp"), 1);
     CHECK(seeds.paths.size() == 3);
     CHECK(seeds.b.b() == 7.5);
     CHECK(seeds.b.samples() == 4096);
-    CHECK(errorOf([&] { (void)seedsFromFile(content({"b"}, {7.5}, "old.ltp")); }) ==
+    CHECK(errorOf([&] { (void)seedsFromFile(content({"b"}, {7.5}, "old.ltp"), 1); }) ==
           "old.ltp: no sample count of the seed run (STAT \"normalization\" row \"samples\")");
-    CHECK(errorOf([&] { (void)seedsFromFile(content({"samples"}, {10}, "nob.ltp")); }) ==
+    CHECK(errorOf([&] { (void)seedsFromFile(content({"samples"}, {10}, "nob.ltp"), 1); }) ==
           "nob.ltp: no normalization b (STAT \"normalization\"); was it written by lt-seed --paths?");
     CHECK(errorOf([&] {
-              (void)seedsFromFile(content({"b", "samples"}, {std::numeric_limits<double>::quiet_NaN(), 10}, "nan.ltp"));
+              (void)seedsFromFile(content({"b", "samples"}, {std::numeric_limits<double>::quiet_NaN(), 10}, "nan.ltp"), 1);
           }).find("nan.ltp: no normalization b") == 0);
     CHECK(errorOf([&] {
-              (void)seedsFromFile(content({"b", "samples"}, {7.5, 1e300}, "huge.ltp"));
+              (void)seedsFromFile(content({"b", "samples"}, {7.5, 1e300}, "huge.ltp"), 1);
           }).find("huge.ltp: the seed run's sample count") == 0);
+    // Seeds with and without the paths of the direct part (sampling/direct_split.h) are for different chains: a
+    // file without the row holds every length (made before the split existed).
+    CHECK(errorOf([&] { (void)seedsFromFile(content({"b", "samples"}, {7.5, 4096}, "all.ltp"), 3); }) ==
+          "all.ltp: its seed paths and b hold paths of every length (lt-seed --direct-split off), but this run's "
+          "chains leave the direct part to --direct-samples: make the seeds with lt-seed --direct-split on");
+    CHECK(errorOf([&] {
+              (void)seedsFromFile(content({"b", "samples", "min_edges"}, {7.5, 4096, 3}, "split.ltp"), 1);
+          }) == "split.ltp: its seed paths and b leave out the paths of the direct part (lt-seed --direct-split on), "
+                "but this run's chains render every path (--direct-samples -1): make the seeds with lt-seed "
+                "--direct-split off");
+    CHECK(seedsFromFile(content({"b", "samples", "min_edges"}, {7.5, 4096, 3}, "split.ltp"), 3).b.b() == 7.5);
 }
 
 TEST_CASE("a seed file reads back with its paths, b and sample count", "[mcmc]") {
@@ -185,12 +196,34 @@ TEST_CASE("a seed file reads back with its paths, b and sample count", "[mcmc]")
     const auto written = writeSeedFile(writer, reservoir, 400, 16);
     CHECK(written.b == Approx(199.0 * 16 / 400));
     CHECK(written.kept == 8);
-    const SeedFile back = readSeedFile(file::readAll(name, file::FileKind::Paths));
+    const SeedFile back = readSeedFile(file::readAll(name, file::FileKind::Paths), 1);
     CHECK(back.paths.size() == 8);
     CHECK(back.b == written.b);
     CHECK(back.samples == 400);
     for (const auto& p : back.paths)
         CHECK(p.vertices.size() == 2);
+}
+
+TEST_CASE("a reservoir for the chains of the direct split leaves out the paths of the direct part", "[mcmc]") {
+    // Paths of 1 to 4 edges, weight 1 each: with minEdges 3 only the 3- and 4-edge ones are candidates, and b is
+    // theirs (sampling/direct_split.h); the file records the bound.
+    SeedReservoir reservoir(16, 1, 3);
+    for (int i = 0; i < 100; ++i) {
+        file::PathRecord rec;
+        rec.weight = 1;
+        rec.vertices.resize(size_t(2 + i % 4));
+        reservoir.add(rec);
+    }
+    CHECK(reservoir.candidates() == 50);
+    CHECK(reservoir.normalization(100, 1) == Approx(0.5));
+    for (const auto& p : reservoir.draws())
+        CHECK(p.vertices.size() >= 4);
+    test::TempDir dir;
+    const std::string name = dir.file("seeds.ltp");
+    file::Writer writer(name, file::FileKind::Paths, nlohmann::json::object());
+    (void)writeSeedFile(writer, reservoir, 100, 1);
+    CHECK(readSeedFile(file::readAll(name, file::FileKind::Paths), 3).minEdges == 3);
+    CHECK_THROWS(readSeedFile(file::readAll(name, file::FileKind::Paths), 1));
 }
 
 TEST_CASE("missed small steps drawn at once have the variance of the steps they stand for", "[mcmc]") {
@@ -311,7 +344,7 @@ TEST_CASE("over 16 seeds the chains' image means on cornell-box agree with BDPT 
         rs.seed = seed;
         SampleFilm film(scene->camera);
         const auto st = runPathSpaceChains(*scene, seeds, mix, rs, b, 1.0 / 16, film, RunControl(2));
-        return film.develop(st.normalization.b());
+        return film.develop(st.b);
     });
 }
 

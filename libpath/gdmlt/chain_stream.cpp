@@ -18,6 +18,7 @@ public:
                  SampleFilm(scene.camera)} {}
 
     [[nodiscard]] const PixelRect& window() const { return films_[0].window(); }
+    [[nodiscard]] SampleFilm& direct() { return films_[3]; }
 
     void merge(const std::vector<ChainGradientSplats>& blocks, uint64_t mutations) {
         for (size_t p = 0; p < films_.size(); ++p) {
@@ -53,8 +54,13 @@ private:
 
 ChainStreamStats gradientsFromStream(const Scene& scene, file::Reader& stream, const ChainStreamSettings& settings,
                                      file::Buffer& result, ShiftStatistics& shifts, const RunControl& control) {
-    ParallelRun run(control);
     PlaneFilms films(scene);
+    if (settings.direct.samples > 0) {
+        RunControl direct = control;
+        direct.progress = {}; // a second or so before the stream's rounds: no line of its own
+        (void)renderDirectPart(scene, settings.paths, settings.direct, settings.seed, films.direct(), direct);
+    }
+    ParallelRun run(control);
     const double pixels = double(films.window().area());
     SnapshotSchedule schedule = settings.snapshots;
     ChainStreamStats stats;

@@ -12,6 +12,7 @@
 #include "formats/ltfile.h"
 #include "gradient/gradient_settings.h"
 #include "image/snapshot_schedule.h"
+#include "sampling/direct_split.h"
 #include "sampling/parallel_run.h"
 
 namespace lt {
@@ -21,6 +22,12 @@ class Scene;
 struct ChainStreamSettings {
     double shiftThreshold = 0.001;
     SnapshotSchedule snapshots;
+    // The direct part, when the chains left it out (the stream's lt-mutate --direct-samples): rendered into the
+    // plane "direct" before the rounds are read (sampling/direct_split.h), with Russian roulette and MIS from
+    // `paths`, seeded from `seed`.
+    DirectSplit direct{-1};
+    PathSettings paths;
+    uint64_t seed = 0;
 };
 
 // Times: what the image cost when its snapshot (or the end) is written. Read from a pipe (lt-mutate --stream - |
@@ -37,7 +44,8 @@ struct ChainStreamStats : RunRecord {
     double ownSeconds = 0;                            // this stage's work
 };
 
-// Reads `stream` to its END! (or until `stop`) and writes the planes primal, dx, dy, direct into `result`.
+// Reads `stream` to its END! (or until `stop`) and writes the planes primal, dx, dy, direct into `result` (direct: the
+// chains' paths of one edge, or with a direct split the direct part).
 // Throws lt::Error naming the stream for a state that does not fit the scene, a stream without rounds, or
 // damage (the reader's).
 ChainStreamStats gradientsFromStream(const Scene& scene, file::Reader& stream, const ChainStreamSettings& settings,

@@ -196,9 +196,10 @@ file::Buffer SampleFilm::toBuffer(double splatScale) const {
         b.planes.push_back(std::move(plane));
     }
     b.sampleCounts = count_;
-    // Buffers of independent runs average by their work: camera samples, or for a splat-only film (the
-    // Markov chains) the number of mutations.
-    b.weight = double(cameraSamples_ > 0 ? cameraSamples_ : lightPaths_);
+    // Buffers of independent runs average by their work: light paths where there are any (one per camera sample for
+    // BDPT; the mutations of the Markov chains, whose film may also hold the direct part's camera samples), else
+    // camera samples.
+    b.weight = double(lightPaths_ > 0 ? lightPaths_ : cameraSamples_);
     b.combine = "weighted-mean";
     return b;
 }

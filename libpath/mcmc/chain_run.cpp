@@ -44,7 +44,8 @@ void ChainRunner::run(
         }
         // The chains advance in parallel and their splats merge in chain order (in parallel over the film's rows):
         // the film does not depend on which thread ran which chain.
-        std::vector<ChainImage> images(chains.size(), ChainImage(1 / pixels));
+        const size_t strata = stats.normalization.strata();
+        std::vector<ChainImage> images(chains.size(), ChainImage(1 / pixels, strata));
         std::vector<uint64_t> done(chains.size(), 0);
         std::vector<const std::vector<Splat>*> splats;
         uint64_t roundMutations = 0;
@@ -62,6 +63,7 @@ void ChainRunner::run(
                 roundMutations += done[c];
                 stats.normalization.take(chains[c]->normalization);
             });
+        if (strata > 1) weighStrata(images, stats);
         parallel_.execute([&] { film_.mergeSplats(splats, roundMutations); });
         mutations_ += roundMutations;
         const double wall = elapsed();
@@ -85,7 +87,26 @@ void ChainRunner::run(
     finish(stats);
 }
 
+void ChainRunner::weighStrata(std::vector<ChainImage>& images, ChainRunStats& stats) {
+    // w_k = b_k / (C_k / C) (chain_run.h, top), with this round's credit in C_k and C.
+    const NormalizationEstimate& b = stats.normalization;
+    stratumCredit_.resize(b.strata(), 0.0);
+    for (const ChainImage& image : images)
+        for (size_t k = 0; k < b.strata(); ++k)
+            stratumCredit_[k] += image.stratumCredit()[k];
+    double credit = 0;
+    for (const double c : stratumCredit_)
+        credit += c;
+    stats.stratumWeights.assign(b.strata(), 0.0);
+    for (size_t k = 0; k < b.strata(); ++k)
+        if (stratumCredit_[k] > 0) stats.stratumWeights[k] = b.stratumB(k) / (stratumCredit_[k] / credit);
+    for (ChainImage& image : images)
+        for (size_t i = 0; i < image.splats().size(); ++i)
+            image.splats()[i].value *= stats.stratumWeights[image.strata()[i]];
+}
+
 double ChainRunner::filmB(const ChainRunStats& stats) const {
+    if (stats.normalization.strata() > 1) return 1; // the strata's splats carry their b_k (top)
     const double b = stats.normalization.b();
     if (!run_.luminanceNormalized) return b;
     return luminanceCredit_ > 0 ? b * double(mutations_) / luminanceCredit_ : 0.0;

@@ -10,6 +10,25 @@
 // Normalization: chains splat with b = 1 and add independent samples of b to their own
 // NormalizationEstimate as they run; after each round the runner takes them in chain order, and a
 // snapshot or the end of the run scales the film by the estimate as it then stands (mcmc/normalization.h).
+//
+// Strata (multiplexed MLT's path lengths): the image is (b / N) sum_i f / f*(x_i), and its part of stratum k has
+// mass (b / N) C_k in luminance, C_k the credit the chains gave to states of stratum k (the mutations spent there,
+// in expectation). It is right only when C_k / N = b_k / b: a chain that samples f* spends that share of its time
+// there in the limit, but finite runs do not. On a scene whose start-up never saw a length that holds most of b
+// (a lamp seen directly, found later by a large step), no chain was there, C_k stayed near 0 while b_k entered
+// b, and every other length came out b / (b - b_k) too bright (13 times on a public pool scene). So each stratum
+// is read with its own b_k over its own credit:
+//   I = sum_k (b_k / C_k) sum_{i in k} credit_i f / f*(x_i)    (all rounds)
+//     = (1 / N) sum_i w_k(i) credit_i f / f*(x_i),   w_k = b_k / (C_k / N).
+// The film cannot hold a plane per stratum (65 lengths at 1024^2), so it sums each round's splats of stratum k times
+// w_k as it stands after that round (b_k, and the credits C_k and N so far, the round's own included), and is read
+// with the factor 1 (not b). The weights carry b_k itself, not its share b_k / b: when a large step finds a
+// length late (the lamp's b_k jumps from 0 to most of b), the rounds before keep the scale their own lengths had.
+// Each stratum's mass follows its own b_k whatever the chains' visits: a stratum the chains never reach loses its own
+// part alone, one they over- or under-visit keeps its scale. For chains that sample f*, C_k / N tends to b_k / b,
+// and every round's b_k to the true one: the estimate is consistent, like the refined b, not unbiased at a fixed N;
+// an early round's error of b_k stays in its splats, so the scale error falls somewhat slower than with one b read at
+// the end. Determinism holds: the weights come from the chains' credits and samples merged in chain order.
 #pragma once
 
 #include <atomic>
@@ -60,6 +79,14 @@ struct ChainRunStats : RunRecord {
     double startupError = 0; // primary spaces: b's relative standard error when the start-up ended
     // multiplexed, per path length (index = edges): chains started there, and mutations spent there
     std::vector<uint64_t> chainsPerLength, mutationsPerLength;
+    // With strata: each stratum's image weight w_k = b_k N / C_k after the last round (chain_run.h, top; 0 where no
+    // credit went); the film is then read with b = 1.
+    std::vector<double> stratumWeights;
+    // Multiplexed MLT with an unbounded depth: the lengths the chains cover grew to `lengths` (from the start-up's
+    // first bound) until the paths beyond carried under TailBound of b; the start-up's estimate of their b and its
+    // standard error (mcmc/primary_space_chains.h). lengths 0: the depth was bounded.
+    int lengths = 0;
+    double tailB = 0, tailError = 0;
     uint64_t unusableSeeds = 0; // path space: seed draws that did not re-create in the scene
     MutationStatistics strategies;
 };
@@ -125,7 +152,11 @@ private:
     // The b the film is read with now: the normalization's, or under another target the luminance-normalized one.
     [[nodiscard]] double filmB(const ChainRunStats& stats) const;
 
+    // Scales each stratum's splats of a round by w_k (top), after the round's credits and samples of b are in.
+    void weighStrata(std::vector<ChainImage>& images, ChainRunStats& stats);
+
     ParallelRun parallel_;
+    std::vector<double> stratumCredit_; // all rounds', per stratum
     uint64_t mutations_ = 0;
     double luminanceCredit_ = 0;
 };

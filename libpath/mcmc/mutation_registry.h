@@ -24,6 +24,7 @@ namespace lt {
 struct MutationContext {
     const Scene& scene;
     int maxEdges = -1; // bound on path edges (the bidirectional mutation and lens subpaths keep to it)
+    int minEdges = 1;  // the fewest edges the chains' paths have (PathSettings::minDepth; the bidirectional mutation)
 };
 
 // What a mutation's preparation sees before the chains start (MutationKind::prepare).

@@ -18,6 +18,7 @@
 // known.
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -46,6 +47,8 @@ public:
     void take(NormalizationEstimate& other);
 
     [[nodiscard]] size_t strata() const { return strata_.size(); }
+    // More strata, empty (multiplexed MLT's start-up adding path lengths); never fewer.
+    void addStrata(size_t strata) { strata_.resize(std::max(strata, strata_.size())); }
     [[nodiscard]] double b() const;
     [[nodiscard]] double stratumB(size_t k) const {
         return strata_[k].count ? strata_[k].sum / double(strata_[k].count) : 0.0;

@@ -18,11 +18,13 @@ Pcg32 chainStream(uint64_t seed, uint64_t chain) { return Pcg32(mixBits(mixBits(
 
 class PathSpaceChain final : public MarkovChain {
 public:
-    // `refine`: the BDPT sampler and film of the run's samples of b, one every `refineEvery` mutations.
+    // `refine`: the BDPT sampler and film of the run's samples of b, one every `refineEvery` mutations. `minEdges`:
+    // shorter paths are outside the target (PathSettings::minDepth, the direct split).
     PathSpaceChain(const Scene& scene, const std::vector<WeightedMutation>& mutations, MarkovPath start, Pcg32 rng,
                    uint64_t index, uint64_t dumpEvery, bool stream, const Bdpt* refine, const SampleFilm& film,
-                   uint64_t refineEvery, uint64_t refineSeed, const PathTarget& target)
-        : scene_(scene), mutations_(mutations), x_(std::move(start)), rng_(rng), stats_(statisticsOf(mutations)),
+                   uint64_t refineEvery, uint64_t refineSeed, const PathTarget& target, int minEdges)
+        : scene_(scene), mutations_(mutations), x_(std::move(start)), minEdges_(minEdges), rng_(rng),
+          stats_(statisticsOf(mutations)),
           index_(index), dumpEvery_(dumpEvery), stream_(stream), refine_(refine), film_(film),
           refineEvery_(refineEvery), refineSeed_(refineSeed), target_(target) {
         if (target_) x_.target = target_(x_.v, x_.raster, x_.f);
@@ -49,6 +51,8 @@ public:
             ++k.proposed;
             proposal_.figures = stats_.figures(m);
             mutations_[m].mutation->propose(x_, rng_, proposal_);
+            // A mutation that changes the length (bidirectional, lens subpath) may reach a path the target leaves out.
+            if (!proposal_.failed && proposal_.y.edges() < minEdges_) proposal_.failed = RejectCause::ZeroContribution;
             if (target_ && !proposal_.failed) {
                 // Q(x -> y) = T(x -> y) / f*(y) was divided by the f* evaluatePath set; Q(y -> x) already
                 // holds the current state's target.
@@ -139,6 +143,7 @@ private:
     const Scene& scene_;
     const std::vector<WeightedMutation>& mutations_;
     MarkovPath x_;
+    int minEdges_;
     Pcg32 rng_;
     Proposal proposal_;
     ChainPosition position_;
@@ -157,8 +162,8 @@ private:
 
 } // namespace
 
-PathSpaceSeeds seedsFromFile(file::Content&& content) {
-    SeedFile file = readSeedFile(std::move(content));
+PathSpaceSeeds seedsFromFile(file::Content&& content, int minEdges) {
+    SeedFile file = readSeedFile(std::move(content), minEdges);
     PathSpaceSeeds seeds;
     seeds.paths = std::move(file.paths);
     seeds.b.addMean(0, file.b, file.samples);
@@ -269,10 +274,14 @@ ChainRunStats runPathSpaceChains(const Scene& scene, const PathSpaceSeeds& seeds
         for (int attempt = 0;; ++attempt) {
             const size_t i = std::min(size_t(rng.nextDouble() * double(seeds.paths.size())), seeds.paths.size() - 1);
             try {
+                MarkovPath start = pathFromRecord(scene, seeds.paths[i], i);
+                if (start.edges() < bdpt.minDepth)
+                    throw Error("seed path " + std::to_string(i) + " has " + std::to_string(start.edges()) +
+                                " edges, fewer than the chains render");
                 chains.push_back(std::make_unique<PathSpaceChain>(
-                    scene, mutations, pathFromRecord(scene, seeds.paths[i], i), rng, uint64_t(c), dump.every,
-                    bool(dump.writeRound), refine ? &*refine : nullptr, film, refineEvery,
-                    mixBits(mixBits(run.seed ^ 0xb5a3b5a3ULL) + uint64_t(c)), target));
+                    scene, mutations, std::move(start), rng, uint64_t(c), dump.every, bool(dump.writeRound),
+                    refine ? &*refine : nullptr, film, refineEvery,
+                    mixBits(mixBits(run.seed ^ 0xb5a3b5a3ULL) + uint64_t(c)), target, bdpt.minDepth));
                 break;
             } catch (const Error& e) {
                 ++unusable;

@@ -47,8 +47,9 @@ struct PathSpaceSeeds {
                                    const StrategyCallback* onPath = nullptr);
 
 // The chains' start: the paths of a seed file (sampling/seed_file.h) and the seed run's b as the first
-// samples of the estimate; throws lt::Error naming the file when b or its sample count is missing.
-[[nodiscard]] PathSpaceSeeds seedsFromFile(file::Content&& content);
+// samples of the estimate; throws lt::Error naming the file when b or its sample count is missing, or when its paths
+// are not those of chains of paths from `minEdges` edges on (PathSettings::minDepth).
+[[nodiscard]] PathSpaceSeeds seedsFromFile(file::Content&& content, int minEdges);
 
 // Seed paths from a BDPT run of its own (what lt-seed --paths writes): at least `samples` camera
 // samples (whole passes), `keep` draws. With a `target`, the draws are in proportion to it (b stays the

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <memory>
 #include <optional>
 
@@ -45,6 +46,7 @@ public:
             // The initial state: the start-up sample re-created from its own stream.
             started_ = true;
             position_.target = evaluate(edges_, position_.contributions);
+            position_.stratum = stratum(edges_);
         }
         Pcg32& rng = u_.rng();
         // One clock reading per proposal: each is charged the time since the previous one ended (a
@@ -63,7 +65,7 @@ public:
             const double f = evaluate(edges, proposed_);
             ++k.proposed;
             // A large step's u' is uniform: f*(u') is an independent sample of b (of b_k' when multiplexed).
-            if (large) normalization.add(lengths_ ? size_t(edges) : 0, f);
+            if (large) normalization.add(stratum(edges), f);
             // Symmetric in u; a multiplexed large step's length is an independence proposal (file comment
             // of primary_space_chains.h).
             const double lengthRatio =
@@ -73,7 +75,7 @@ public:
                 ++k.rejected[size_t(health_.nonFinite > bad ? RejectCause::NonFinite : RejectCause::ZeroContribution)];
             const bool move = f > 0 && rng.nextDouble() < a;
             k.acceptance += a;
-            position_.step(proposed_, f, a, move, image);
+            position_.step(proposed_, f, a, move, image, stratum(edges));
             if (move) {
                 u_.accept();
                 edges_ = edges;
@@ -100,6 +102,8 @@ public:
     }
 
 private:
+    // The stratum of b, and of the image (chain_run.h), of a state of `edges` edges: its length when multiplexed.
+    [[nodiscard]] size_t stratum(int edges) const { return lengths_ ? size_t(edges) : 0; }
     double evaluate(int edges, std::vector<ImageContribution>& out) {
         return lengths_ ? target_.evaluateMultiplexed(edges, u_, out, health_) : target_.evaluateAll(u_, out, health_);
     }
@@ -124,16 +128,14 @@ class StartUp {
 public:
     StartUp(const PrimarySpaceTarget& target, const PrimarySpaceSettings& space, uint64_t seed, ChainRunner& runner)
         : target_(target), space_(space), seed_(seed), runner_(runner),
-          multiplexed_(space.space == PrimarySpace::Multiplexed), lengths_(multiplexed_ ? target.maxEdges() : 1),
-          budgetCount_(size_t(lengths_) + 1, 0.0), values_(size_t(lengths_) + 1) {
-        // The budget: `startupSamples` per path length on average, n_k = startupSamples x (mean length) / k for
-        // length k, the same work (about k + 1 rays a sample) for every length.
-        for (int k = 1; k <= lengths_; ++k) {
-            budgetCount_[size_t(k)] = double(space.startupSamples) * (multiplexed_ ? 0.5 * (lengths_ + 1) / k : 1.0);
-            budget_ += budgetCount_[size_t(k)] * cost(k);
-        }
+          multiplexed_(space.space == PrimarySpace::Multiplexed),
+          unbounded_(multiplexed_ && space.paths.maxDepth < 0), first_(multiplexed_ ? target.minEdges() : 1) {
+        addLengths(multiplexed_ ? target.maxEdges() : 1);
     }
 
+    // The path lengths of the chains: first() .. lengths() (multiplexed; 1 .. 1 for Kelemen's, whose one stratum
+    // holds every length).
+    [[nodiscard]] int first() const { return first_; }
     [[nodiscard]] int lengths() const { return lengths_; }
     [[nodiscard]] size_t stratum(int k) const { return multiplexed_ ? size_t(k) : 0; }
     [[nodiscard]] double workDone() const { return spent_ / budget_; }
@@ -143,15 +145,58 @@ public:
 
     // The pilot spends 1/8 of the budget spread as the budget (at least two samples a length, for a deviation);
     // each later round adds half the work done, a quarter spread so and the rest by Neyman allocation from the
-    // deviations seen so far.
+    // deviations seen so far. With an unbounded depth, then, while the paths beyond the longest length carry more than
+    // TailBound of b, the lengths double (file comment of primary_space_chains.h), each new one with its pilot, and the
+    // rounds go on.
     void run(NormalizationEstimate& b) {
+        b = NormalizationEstimate(size_t(lengths_) + 1);
+        pilot(first_, b);
+        rounds(b);
+        while (unbounded_ && !runner_.stopped()) {
+            tail_ = tailEstimate();
+            if (!(tail_.b > TailBound * (b.b() + tail_.b)) || lengths_ >= MaxUnboundedEdges) break;
+            const int from = lengths_ + 1;
+            addLengths(std::min(2 * lengths_, MaxUnboundedEdges));
+            b.addStrata(size_t(lengths_) + 1);
+            pilot(from, b);
+            rounds(b);
+        }
+    }
+    // b beyond the longest length, as the last estimate found it (0 with a bounded depth).
+    struct Tail {
+        double b = 0, error = 0;
+    };
+    [[nodiscard]] const Tail& tail() const { return tail_; }
+
+private:
+    [[nodiscard]] double cost(int k) const { return multiplexed_ ? double(k + 1) : 1.0; }
+
+    // Lengths up to `lengths`, with their budget: `startupSamples` per path length on average, n_k = startupSamples x
+    // (mean length) / k for length k, the same work (about k + 1 rays a sample) for every length; lengths added later
+    // take their budget from the new mean.
+    void addLengths(int lengths) {
+        const int from = std::max(lengths_ + 1, first_);
+        lengths_ = lengths;
+        budgetCount_.resize(size_t(lengths_) + 1, 0.0);
+        values_.resize(size_t(lengths_) + 1);
+        for (int k = from; k <= lengths_; ++k) {
+            budgetCount_[size_t(k)] =
+                double(space_.startupSamples) * (multiplexed_ ? 0.5 * (lengths_ + first_) / k : 1.0);
+            budget_ += budgetCount_[size_t(k)] * cost(k);
+        }
+    }
+
+    void pilot(int from, NormalizationEstimate& b) {
         std::vector<uint64_t> add(size_t(lengths_) + 1, 0);
-        for (int k = 1; k <= lengths_; ++k)
+        for (int k = from; k <= lengths_; ++k)
             add[size_t(k)] = std::max<uint64_t>(2, uint64_t(budgetCount_[size_t(k)] / 8));
         draw(add, b);
+    }
+
+    void rounds(NormalizationEstimate& b) {
         while (!runner_.stopped() && spent_ < budget_) {
             if (space_.startupError > 0 && b.b() > 0 && b.relativeStandardError() <= space_.startupError) break;
-            add = nextRound(b);
+            const std::vector<uint64_t> add = nextRound(b);
             uint64_t added = 0;
             for (const uint64_t n : add)
                 added += n;
@@ -160,8 +205,51 @@ public:
         }
     }
 
-private:
-    [[nodiscard]] double cost(int k) const { return multiplexed_ ? double(k + 1) : 1.0; }
+    // Samples of the b of all lengths beyond the longest, L (file comment): a length L + j, j >= 1 drawn with
+    // probability (1 - c) c^(j - 1) (Russian roulette beyond L), u uniform, and f*(L + j, u) over that probability.
+    // c follows the decay of b over the last two lengths, within [0.5, 0.95]; lengths beyond MaxUnboundedEdges count
+    // as 0. As many samples as the last length's budget, at least 4096, keyed by their index.
+    [[nodiscard]] Tail tailEstimate() {
+        const auto& last = values_[size_t(lengths_)];
+        const auto& before = values_[size_t(lengths_) - 1];
+        const auto mean = [](const std::vector<double>& v) {
+            double sum = 0;
+            for (const double x : v)
+                sum += x;
+            return v.empty() ? 0.0 : sum / double(v.size());
+        };
+        const double decay = mean(before) > 0 ? mean(last) / mean(before) : 0.5;
+        const double c = std::clamp(decay, 0.5, 0.95);
+        const uint64_t n = std::max<uint64_t>(4096, uint64_t(budgetCount_[size_t(lengths_)]));
+        constexpr uint64_t Block = 256;
+        std::vector<double> values(n);
+        runner_.parallel().forEach(
+            (n + Block - 1) / Block,
+            [&](uint64_t block) {
+                std::vector<ImageContribution> contributions;
+                SampleHealth health;
+                for (uint64_t i = block * Block; i < std::min(n, (block + 1) * Block); ++i) {
+                    Pcg32 roulette = startupStream(seed_ ^ 0x7a11ULL, lengths_, i);
+                    const int j = 1 + int(std::floor(std::log1p(-roulette.nextDouble()) / std::log(c)));
+                    const double p = (1 - c) * std::pow(c, j - 1);
+                    values[i] = 0;
+                    if (lengths_ + j > MaxUnboundedEdges) continue;
+                    PrimarySampleVector u(Pcg32(), startupStream(seed_ ^ 0x7a11ULL, -lengths_, i), space_.smallStep);
+                    values[i] = target_.evaluateMultiplexed(lengths_ + j, u, contributions, health) / p;
+                }
+                nonFiniteBlocks_ += health.nonFinite;
+            },
+            [](uint64_t) {});
+        nonFinite_ += nonFiniteBlocks_.exchange(0);
+        spent_ += double(n) * cost(lengths_ + int(1 / (1 - c)));
+        double sum = 0, squares = 0;
+        for (const double v : values) {
+            sum += v;
+            squares += v * v;
+        }
+        const double m = sum / double(n);
+        return {m, std::sqrt(std::max(0.0, squares / double(n) - m * m) / double(n - 1))};
+    }
 
     // The samples of the next round: half the work so far (the start-up ends within 1.5 times the work its error
     // needs). A quarter of it spread as the budget, the rest by Neyman allocation: a length whose samples so far
@@ -171,7 +259,7 @@ private:
         const double work = std::min(spent_ / 2, budget_ - spent_);
         std::vector<double> deviation(size_t(lengths_) + 1, 0.0), costs(deviation.size(), 1.0);
         std::vector<uint64_t> have(deviation.size(), 0), even(deviation.size(), 0);
-        for (int k = 1; k <= lengths_; ++k) {
+        for (int k = first_; k <= lengths_; ++k) {
             deviation[size_t(k)] = b.stratumDeviation(stratum(k));
             costs[size_t(k)] = cost(k);
             even[size_t(k)] = uint64_t(budgetCount_[size_t(k)] * EvenShare * work / budget_);
@@ -181,7 +269,7 @@ private:
         uint64_t added = 0;
         for (size_t k = 0; k < add.size(); ++k)
             added += add[k];
-        for (int k = 1; k <= lengths_; ++k)
+        for (int k = first_; k <= lengths_; ++k)
             add[size_t(k)] += added > 0 ? even[size_t(k)] : uint64_t(budgetCount_[size_t(k)] * work / budget_);
         return add;
     }
@@ -191,7 +279,7 @@ private:
     // least 4096), so that Ctrl-C ends even a round that gives one length half the budget soon.
     void draw(const std::vector<uint64_t>& add, NormalizationEstimate& b) {
         constexpr uint64_t Block = 256; // samples a work item
-        for (int k = 1; k <= lengths_; ++k) {
+        for (int k = first_; k <= lengths_; ++k) {
             std::vector<double>& v = values_[size_t(k)];
             const uint64_t chunk = std::max<uint64_t>(4096, uint64_t(budgetCount_[size_t(k)] / 8));
             for (uint64_t done = 0; done < add[size_t(k)] && !runner_.stopped();) {
@@ -227,8 +315,9 @@ private:
     const PrimarySpaceSettings& space_;
     uint64_t seed_;
     ChainRunner& runner_;
-    bool multiplexed_;
-    int lengths_;
+    bool multiplexed_, unbounded_;
+    int first_, lengths_ = 0;
+    Tail tail_;
     std::vector<double> budgetCount_;
     double budget_ = 0, spent_ = 0;
     std::vector<std::vector<double>> values_; // f* of the start-up samples of each length
@@ -238,13 +327,13 @@ private:
 
 // q, the distribution of a multiplexed large step's path length (file comment of primary_space_chains.h): the
 // start-up's estimate of b_k / b mixed with a floor spread in proportion to 1 / k.
-DiscreteDistribution lengthProposal(const NormalizationEstimate& normalization, int lengths) {
+DiscreteDistribution lengthProposal(const NormalizationEstimate& normalization, int first, int lengths) {
     const double b = normalization.b();
     double harmonic = 0;
-    for (int k = 1; k <= lengths; ++k)
+    for (int k = first; k <= lengths; ++k)
         harmonic += 1.0 / k;
-    std::vector<double> q(static_cast<size_t>(lengths));
-    for (int k = 1; k <= lengths; ++k)
+    std::vector<double> q(static_cast<size_t>(lengths), 0.0);
+    for (int k = first; k <= lengths; ++k)
         q[size_t(k - 1)] = (1 - LengthFloor) * normalization.stratumB(size_t(k)) / b + LengthFloor / (k * harmonic);
     return DiscreteDistribution(q);
 }
@@ -266,9 +355,13 @@ ChainRunStats runPrimarySpaceChains(const Scene& scene, const PrimarySpaceSettin
 
     // 1. Start-up: independent primary samples, in rounds (file comment of primary_space_chains.h).
     StartUp startUp(target, space, run.seed, runner);
-    const int lengths = startUp.lengths();
-    stats.normalization = NormalizationEstimate(multiplexed ? size_t(lengths) + 1 : 1);
     startUp.run(stats.normalization);
+    const int lengths = startUp.lengths();
+    if (multiplexed && space.paths.maxDepth < 0) {
+        stats.lengths = lengths;
+        stats.tailB = startUp.tail().b;
+        stats.tailError = startUp.tail().error;
+    }
     std::vector<uint64_t> first(size_t(lengths) + 2, 0); // samples of length k: [first[k], first[k + 1])
     for (int k = 1; k <= lengths; ++k)
         first[size_t(k) + 1] = first[size_t(k)] + startUp.values(k).size();
@@ -283,7 +376,12 @@ ChainRunStats runPrimarySpaceChains(const Scene& scene, const PrimarySpaceSettin
         return stats;
     }
     if (!(stats.normalization.b() > 0))
-        throw Error("the start-up found no light reaching the camera in " + std::to_string(stats.startupSamples) +
+        throw Error("the start-up found no light reaching the camera" +
+                    (space.paths.minDepth > 1
+                         ? " along paths of " + std::to_string(space.paths.minDepth) +
+                               " or more edges (the direct part renders the shorter ones)"
+                         : std::string()) +
+                    " in " + std::to_string(stats.startupSamples) +
                     " samples: nothing for the chains to start from (raise --startup-samples, or check the scene)");
 
     // 2. q, the large steps' path lengths (multiplexed), and the chains' first states: start-up samples in
@@ -291,7 +389,7 @@ ChainRunStats runPrimarySpaceChains(const Scene& scene, const PrimarySpaceSettin
     // integral, so its resampling weight is f* / n_k (start-up bias removal over the strata); systematic
     // over the chain index.
     std::optional<DiscreteDistribution> lengthsQ;
-    if (multiplexed) lengthsQ.emplace(lengthProposal(stats.normalization, lengths));
+    if (multiplexed) lengthsQ.emplace(lengthProposal(stats.normalization, startUp.first(), lengths));
     std::vector<double> weights;
     weights.reserve(stats.startupSamples);
     for (int k = 1; k <= lengths; ++k) {

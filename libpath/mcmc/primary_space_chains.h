@@ -29,6 +29,19 @@
 // of the large steps are "wasted" on lengths that carry no light. A large step at length k' is a sample
 // of b_k' (u' is uniform), so each length's b_k is the mean of its own samples and b their sum.
 //
+// An unbounded depth: the chains cover lengths up to a bound L, so the paths beyond L are left out of the image and of
+// b, a bias of their share of the light. Where the light needs many bounces (a kitchen lit through its windows,
+// lengths 9 to 12 each held about a fifth of b) a fixed L = 12 lost 47 % of the image. So the start-up first covers
+// `unboundedEdges` lengths, then estimates the b of all lengths beyond L by Russian roulette over the length (a
+// length L + j, j drawn with probability (1 - c) c^(j - 1), f*(L + j, u) over that probability: unbiased for every c,
+// which follows b's decay over the last two lengths), and while that tail holds more than TailBound of the total,
+// doubles L (up to MaxUnboundedEdges, the cap on BDPT's subpaths), samples the new lengths and estimates the tail
+// again. TailBound is a fifth of the start-up's default precision on b (--startup-error 0.005): what is left out
+// stays well under b's own error. The tail estimate, L and whether the cap stopped the growth are in the output.
+//
+// Image scale per length: each length's splats are read with its own b_k over the chains' credit there
+// (mcmc/chain_run.h), so a length the chains miss or under-visit does not move the others' scale.
+//
 // Proposals: a large step with probability `largeStepProbability`, otherwise Kelemen's exponential small
 // step on every coordinate (mcmc/primary_sample_vector.h). Both are symmetric in u.
 #pragma once
@@ -42,11 +55,15 @@ enum class PrimarySpace { Kelemen, Multiplexed };
 
 // Multiplexed MLT: the share of large steps spread evenly over the path lengths (file comment).
 inline constexpr double LengthFloor = 0.1;
+// Multiplexed MLT with an unbounded depth: the share of b the lengths beyond the chains' may hold, and the most
+// edges the chains' lengths grow to (file comment).
+inline constexpr double TailBound = 1e-3;
+inline constexpr int MaxUnboundedEdges = 1023;
 
 struct PrimarySpaceSettings {
     PrimarySpace space = PrimarySpace::Kelemen;
     PathSettings paths;
-    int unboundedEdges = 12;           // multiplexed: path-length bound when paths.maxDepth is -1
+    int unboundedEdges = 12;           // multiplexed, paths.maxDepth -1: the lengths the start-up covers first
     double largeStepProbability = 0.3; // Mitsuba's default
     SmallStepKernel smallStep;
     uint64_t startupSamples = 100000; // the start-up's budget: Mitsuba's luminanceSamples; multiplexed: per

@@ -18,7 +18,7 @@ PathSettings withoutRussianRoulette(PathSettings s) {
 
 PrimarySpaceTarget::PrimarySpaceTarget(const Scene& scene, const PathSettings& settings, int unboundedEdges)
     : bdpt_(scene, settings), fixedLength_(scene, withoutRussianRoulette(settings)),
-      maxEdges_(settings.maxDepth > 0 ? settings.maxDepth : unboundedEdges), sensor_(scene.camera),
+      minEdges_(settings.minDepth), maxEdges_(settings.maxDepth > 0 ? settings.maxDepth : unboundedEdges), sensor_(scene.camera),
       cropPixels_(double(scene.camera.film().cropWidth) * double(scene.camera.film().cropHeight)) {}
 
 double PrimarySpaceTarget::evaluateAll(SampleGenerator& u, std::vector<ImageContribution>& out,
@@ -38,6 +38,7 @@ double PrimarySpaceTarget::evaluateAll(SampleGenerator& u, std::vector<ImageCont
 double PrimarySpaceTarget::evaluateMultiplexed(int edges, SampleGenerator& u, std::vector<ImageContribution>& out,
                                                SampleHealth& health) const {
     out.clear();
+    if (edges < minEdges_) return 0;
     // Paths of k edges have k + 1 vertices, split as s light and t >= 1 camera vertices; lt joins the
     // single-edge paths (emitters seen directly) only with (0, 2).
     const int strategies = edges == 1 ? 1 : edges + 1;

@@ -30,16 +30,17 @@ public:
 
     // Kelemen PSSMLT: the contributions of the full BDPT sample u; returns their target value.
     double evaluateAll(SampleGenerator& u, std::vector<ImageContribution>& out, SampleHealth& health) const;
-    // Multiplexed MLT for paths of `edges` edges (1 .. maxEdges()).
+    // Multiplexed MLT for paths of `edges` edges (minEdges() .. maxEdges(); 0 for other lengths).
     double evaluateMultiplexed(int edges, SampleGenerator& u, std::vector<ImageContribution>& out,
                                SampleHealth& health) const;
 
+    [[nodiscard]] int minEdges() const { return minEdges_; }
     [[nodiscard]] int maxEdges() const { return maxEdges_; }
 
 private:
     Bdpt bdpt_;
     Bdpt fixedLength_; // multiplexed: no Russian roulette, subpaths have exactly s and t vertices
-    int maxEdges_;
+    int minEdges_, maxEdges_;
     SensorWindow sensor_;
     double cropPixels_;
 };

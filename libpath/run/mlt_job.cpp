@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
+#include <limits>
 #include <sstream>
 
 #include "gdmlt/chain_gradient.h"
@@ -10,6 +11,17 @@
 #include "util/error.h"
 
 namespace lt {
+
+namespace {
+
+// Tells the caller what the run does now (RunProgress::phase points into `what` for the call).
+void tellPhase(const RunControl& control, const std::string& what) {
+    RunProgress p;
+    p.phase = what.c_str();
+    if (control.progress) control.progress(p);
+}
+
+} // namespace
 
 ChainSpace chainSpace(const std::string& name) {
     if (name == "path") return ChainSpace::Path;
@@ -22,6 +34,16 @@ MltJob::MltJob(const Scene& scene, MltSettings settings, std::optional<PathSpace
     : scene_(scene), settings_(std::move(settings)), seeds_(std::move(seeds)), kinds_(kinds) {
     if (seeds_) seedFileB_ = seeds_->b.b();
     MltSettings& s = settings_;
+    s.direct.check();
+    chainPaths_ = s.direct.chainPaths(s.paths);
+    if (s.direct.samples > 0 && !split())
+        notes_.push_back("the max depth " + std::to_string(s.paths.maxDepth) +
+                         " leaves no path beyond the direct part's two edges: the chains render every path (no direct "
+                         "split)");
+    if (split() && s.space == ChainSpace::Multiplexed && s.paths.maxDepth < 0 && s.unboundedEdges <= DirectSplit::Edges)
+        throw Error("--max-length-unbounded " + std::to_string(s.unboundedEdges) +
+                    " leaves the chains no path longer than the direct part's two edges (--direct-samples -1 gives "
+                    "them every path)");
     if (!pathSpace() && (s.dumpEvery > 0 || s.stream || s.target != ChainTarget::Luminance))
         throw Error("the chain-state stream, path dumps and other targets than luminance need --space path");
     if (s.stream && scene.camera.hasAperture())
@@ -43,17 +65,14 @@ MltJob::MltJob(const Scene& scene, MltSettings settings, std::optional<PathSpace
         for (const auto& why : choice_.leftOut)
             notes_.push_back("left out: " + why);
     }
-    if (s.paths.maxDepth < 0 && s.space != ChainSpace::Primary) {
-        std::ostringstream note;
-        note << "warning: the max depth is unbounded; "
-             << (pathSpace() ? "the bidirectional mutation builds paths" : "multiplexed chains cover paths")
-             << " of up to " << s.unboundedEdges << " edges (--max-length-unbounded)";
-        notes_.push_back(note.str());
-    }
 }
 
 int MltJob::maxEdges() const {
-    return settings_.paths.maxDepth > 0 ? settings_.paths.maxDepth : settings_.unboundedEdges;
+    // Unbounded: the path-space mutations build paths of any length (the bidirectional mutation changes a length by at
+    // most MaxLengthChange, so its proposal needs no bound); multiplexed chains start from unboundedEdges lengths
+    // and add more while the paths beyond carry light (primary_space_chains.h).
+    if (settings_.paths.maxDepth > 0) return settings_.paths.maxDepth;
+    return pathSpace() ? std::numeric_limits<int>::max() : settings_.unboundedEdges;
 }
 
 nlohmann::json MltJob::parameters() const {
@@ -64,7 +83,8 @@ nlohmann::json MltJob::parameters() const {
                         {"chains", s.run.chains},
                         {"round", s.run.mutationsPerRound},
                         {"estimator", "expected-value splatting; image = b / N sum f / f* at each state"},
-                        {"target", s.target == ChainTarget::Gradient ? "gradient" : "luminance"}};
+                        {"target", s.target == ChainTarget::Gradient ? "gradient" : "luminance"},
+                        {"direct_samples", split() ? s.direct.samples : -1}};
     if (s.target == ChainTarget::Gradient) {
         p["gradient_alpha"] = s.gradientAlpha;
         p["shift_threshold"] = s.shiftThreshold;
@@ -73,7 +93,7 @@ nlohmann::json MltJob::parameters() const {
         p["refine_b"] = s.refineB;
         if (!seeded()) p["startup_samples"] = s.startupSamples;
         p.update(mutationParameters(choice_, s.mutationValues));
-        p["max_length"] = maxEdges();
+        p["max_length"] = s.paths.maxDepth; // -1: unbounded
         return p;
     }
     const SmallStepKernel smallStep;
@@ -81,7 +101,10 @@ nlohmann::json MltJob::parameters() const {
     p["small_step"] = {{"s1", smallStep.s1()}, {"s2", smallStep.s2()}};
     p["startup_samples"] = s.startupSamples;
     p["startup_error"] = s.startupError;
-    if (s.space == ChainSpace::Multiplexed) p["max_length"] = maxEdges();
+    if (s.space == ChainSpace::Multiplexed) {
+        p["max_length"] = s.paths.maxDepth; // -1: unbounded, the lengths grown as primary_space_chains.h says
+        if (s.paths.maxDepth < 0) p["first_lengths"] = s.unboundedEdges;
+    }
     return p;
 }
 
@@ -93,17 +116,12 @@ void MltJob::runPathSpace(const RunControl& control, const PathDump& dump, Sampl
     const auto note = [&](const std::string& line) {
         if (control.note) control.note(line);
     };
-    const auto phase = [&](const std::string& what) { // RunProgress::phase points into `what` for the call
-        RunProgress p;
-        p.phase = what.c_str();
-        if (control.progress) control.progress(p);
-    };
     if (!seeded()) {
         // No seed paths: a BDPT start-up of its own, as lt-seed --paths would make it.
-        phase("seeding with BDPT");
+        tellPhase(control, "seeding with BDPT");
         RunControl seeding(control.threads);
         seeding.stop = control.stop;
-        seeds_ = seedWithBdpt(scene_, s.paths, s.startupSamples, std::max<size_t>(4 * size_t(s.run.chains), 1024),
+        seeds_ = seedWithBdpt(scene_, chainPaths_, s.startupSamples, std::max<size_t>(4 * size_t(s.run.chains), 1024),
                               s.run.seed ^ 0x5eedULL, seeding, target);
         std::ostringstream line;
         line << "seeded with BDPT (" << s.startupSamples << " samples): b = " << seeds_->b.b();
@@ -113,7 +131,7 @@ void MltJob::runPathSpace(const RunControl& control, const PathDump& dump, Sampl
     for (const auto& e : choice_.chosen) {
         if (!e.kind->prepare) continue;
         values.setDefaults(e.kind->options);
-        phase("preparing the " + e.kind->name + " " + e.kind->noun);
+        tellPhase(control, "preparing the " + e.kind->name + " " + e.kind->noun);
         if (const auto found = e.kind->prepare({scene_, features_, seeds_->paths, s.run.seed, control.stop}, values)) {
             prepared.push_back(found->table);
             note(found->message);
@@ -121,8 +139,8 @@ void MltJob::runPathSpace(const RunControl& control, const PathDump& dump, Sampl
     }
     std::vector<std::unique_ptr<Mutation>> owned;
     std::vector<WeightedMutation> mix;
-    makeMutations(choice_, {scene_, maxEdges()}, values, owned, mix);
-    out.stats = runPathSpaceChains(scene_, *seeds_, mix, s.run, s.paths, s.refineB, film, control, dump, target);
+    makeMutations(choice_, {scene_, maxEdges(), chainPaths_.minDepth}, values, owned, mix);
+    out.stats = runPathSpaceChains(scene_, *seeds_, mix, s.run, chainPaths_, s.refineB, film, control, dump, target);
     out.streamEnd = file::valueTable("normalization", {{"b", out.stats.normalization.b()},
                                                        {"b_samples", double(out.stats.normalization.samples())},
                                                        {"mutations", double(out.stats.mutations)}});
@@ -134,12 +152,18 @@ MltOutcome MltJob::run(const RunControl& control, const PathDump& dump) {
     const double pixels = double(film.width()) * double(film.height());
     MltOutcome out;
     std::vector<file::StatTable> prepared;
+    // The direct part first, into the film's camera samples: every snapshot of the chains is then a whole image.
+    RenderStats direct;
+    if (split()) {
+        tellPhase(control, "direct part");
+        direct = renderDirectPart(scene_, s.paths, s.direct, s.run.seed, film, control);
+    }
     if (pathSpace()) {
         runPathSpace(control, dump, film, out, prepared);
     } else {
         PrimarySpaceSettings ps;
         ps.space = s.space == ChainSpace::Primary ? PrimarySpace::Kelemen : PrimarySpace::Multiplexed;
-        ps.paths = s.paths;
+        ps.paths = chainPaths_;
         ps.unboundedEdges = s.unboundedEdges;
         ps.largeStepProbability = s.largeStep;
         ps.startupSamples = s.startupSamples;
@@ -150,7 +174,20 @@ MltOutcome MltJob::run(const RunControl& control, const PathDump& dump) {
     if (s.run.timeLimit > 0 && st.startupSeconds > s.run.timeLimit)
         out.notes.push_back("warning: the start-up took " + formatSeconds(st.startupSeconds) +
                             ", longer than --time; the chains ran one round (lower --startup-samples)");
+    if (const std::string w = untrustedB(st); !w.empty()) out.notes.push_back(w);
+    if (st.lengths >= MaxUnboundedEdges && st.tailB > TailBound * (st.normalization.b() + st.tailB))
+        out.notes.push_back("warning: paths of over " + std::to_string(MaxUnboundedEdges) +
+                            " edges carry an estimated " + std::to_string(100 * st.tailB / (st.normalization.b() + st.tailB)) +
+                            "% of the light, which the chains leave out (give a --max-depth, or use --space primary)");
     out.image = film.toBuffer(st.b);
+    std::optional<DirectSplitRecord> directRecord;
+    if (split()) {
+        directRecord = directSplitRecord(film, out.image, s.direct, direct);
+        for (size_t c = 0; c < 3; ++c) {
+            out.image.channels.push_back(std::string("direct.") + "RGB"[c]);
+            out.image.planes.push_back(std::move(directRecord->planes[c]));
+        }
+    }
     out.tables.push_back(runTable(st,
                                   {{"mutations", double(st.mutations)},
                                    {"mutations_per_pixel", double(st.mutations) / pixels},
@@ -169,31 +206,46 @@ MltOutcome MltJob::run(const RunControl& control, const PathDump& dump) {
     }
     if (s.target != ChainTarget::Luminance) norm.emplace_back("film_b", st.b);
     if (seedFileB_) norm.emplace_back("b_seed_file", *seedFileB_);
+    if (st.lengths > 0) {
+        norm.emplace_back("lengths", double(st.lengths));
+        norm.emplace_back("tail_b", st.tailB);
+        norm.emplace_back("tail_b_standard_error", st.tailError);
+    }
     out.tables.push_back(file::valueTable("normalization", norm));
+    if (directRecord) out.tables.push_back(directRecord->table);
     out.tables.push_back(st.strategies.table());
     for (auto& t : st.strategies.figureTables())
         out.tables.push_back(std::move(t));
     for (auto& t : prepared)
         out.tables.push_back(std::move(t));
     if (s.space == ChainSpace::Multiplexed) {
-        file::StatTable lengths{
-            "path_lengths", {"b", "b_standard_error", "b_samples", "chains_started", "mutations"}, {}, {}};
-        for (size_t k = 1; k < b.strata(); ++k) {
+        file::StatTable lengths{"path_lengths",
+                                {"b", "b_standard_error", "b_samples", "chains_started", "mutations", "image_weight"},
+                                {},
+                                {}};
+        for (size_t k = size_t(chainPaths_.minDepth); k < b.strata(); ++k) {
             lengths.rows.push_back(std::to_string(k) + " edges");
             lengths.values.push_back({b.stratumB(k), b.stratumStandardError(k), double(b.stratumSamples(k)),
-                                      double(st.chainsPerLength[k]), double(st.mutationsPerLength[k])});
+                                      double(st.chainsPerLength[k]), double(st.mutationsPerLength[k]),
+                                      k < st.stratumWeights.size() ? st.stratumWeights[k] : 0.0});
         }
         out.tables.push_back(lengths);
     }
-    out.summary = summary(out);
+    out.summary = summary(out, directRecord, direct);
     out.rates = rates(st, pixels);
     return out;
 }
 
-std::string MltJob::summary(const MltOutcome& out) const {
+std::string MltJob::summary(const MltOutcome& out, const std::optional<DirectSplitRecord>& direct,
+                            const RenderStats& directStats) const {
     const ChainRunStats& st = out.stats;
     const NormalizationEstimate& b = st.normalization;
     std::ostringstream o;
+    if (direct)
+        o << "direct part (paths of 1 and 2 edges): " << settings_.direct.samples
+          << " Sobol samples/pixel of path tracing in " << formatSeconds(directStats.wallSeconds) << ", "
+          << std::setprecision(3) << 100 * direct->share << "% of the image; the chains render the rest\n"
+          << std::setprecision(6);
     // A seed file's b comes without its spread: with --refine-b 0 nothing measures it.
     const double se = b.relativeStandardError();
     o << "b = " << b.b();
@@ -212,12 +264,19 @@ std::string MltJob::summary(const MltOutcome& out) const {
         o << "; chains started from " << seeds_->paths.size() << " seed paths (" << st.unusableSeeds
           << " unusable draws skipped)";
     o << '\n' << st.strategies.text();
+    if (st.lengths > 0)
+        o << "multiplexed chains cover paths of " << chainPaths_.minDepth << " to " << st.lengths
+          << " edges (from " << settings_.unboundedEdges << ", grown while the paths beyond carried over "
+          << 100 * TailBound << "% of b); the paths beyond: an estimated " << std::setprecision(2)
+          << 100 * st.tailB / (b.b() + st.tailB) << "% +- " << 100 * st.tailError / (b.b() + st.tailB)
+          << "% of b, left out\n"
+          << std::setprecision(6);
     if (settings_.space == ChainSpace::Multiplexed) {
         o << "path lengths (edges: share of b +- standard error, share of the mutations, chains started there):\n";
         // Lengths with under 0.01 % of b and of the mutations are summed in one line.
         double restB = 0, restMutations = 0;
         size_t rest = 0;
-        for (size_t k = 1; k < b.strata(); ++k) {
+        for (size_t k = size_t(chainPaths_.minDepth); k < b.strata(); ++k) {
             const double shareB = b.stratumB(k) / b.b();
             const double shareM = double(st.mutationsPerLength[k]) / double(std::max<uint64_t>(1, st.mutations));
             if (shareB < 1e-4 && shareM < 1e-4) {
@@ -234,6 +293,25 @@ std::string MltJob::summary(const MltOutcome& out) const {
             o << "  " << rest << " other lengths, each under 0.01 %: " << std::setprecision(2) << 100 * restB
               << "% of b, " << 100 * restMutations << "% of the mutations together\n";
     }
+    return o.str();
+}
+
+std::string MltJob::untrustedB(const ChainRunStats& st) const {
+    // The chains' part of the image is (b / N) sum f / f*: its scale is b, and b's relative error is the error of
+    // every pixel's mean, which no number of mutations lowers. Above UntrustedB a 2.5-sigma error of b already moves
+    // the image by more than 5 % (the bound lt's tests hold every method's regions to).
+    constexpr double UntrustedB = 0.02;
+    const double se = st.normalization.relativeStandardError();
+    if (!(se > UntrustedB)) return {}; // NaN (a seed file's b alone): unknown, said in the summary
+    std::ostringstream o;
+    o << "warning: b, the scale of the chains' image, is known only to +- " << std::setprecision(2) << 100 * se
+      << "% (over " << 100 * UntrustedB << "%): every pixel may be off by that much; ";
+    if (pathSpace())
+        o << "draw more seed samples (lt-seed --spp, or --startup-samples without a seed file), raise --refine-b or "
+             "run longer";
+    else
+        o << "lower --startup-error or raise --startup-samples; longer runs refine b with their large steps";
+    if (!split()) o << ", or render the direct light apart (--direct-samples)";
     return o.str();
 }
 

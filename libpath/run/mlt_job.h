@@ -17,6 +17,7 @@
 #include "mcmc/mutation_selection.h"
 #include "mcmc/path_space_chains.h"
 #include "mcmc/primary_space_chains.h"
+#include "sampling/direct_split.h"
 
 namespace lt {
 
@@ -30,6 +31,7 @@ struct MltSettings {
     ChainSpace space = ChainSpace::Path;
     ChainRunSettings run;    // mutations (all chains'), time limit, chains, seed, round, snapshots
     PathSettings paths;      // the path-length bound and Russian roulette of BDPT and the primary spaces
+    DirectSplit direct;      // paths of one and two edges rendered apart from the chains (sampling/direct_split.h)
     int unboundedEdges = 12; // the path-length bound of the mutations and multiplexed MLT when paths.maxDepth is -1
     // The primary spaces.
     double largeStep = 0.3;      // probability of a large step (Mitsuba's default)
@@ -53,7 +55,9 @@ struct MltOutcome {
     std::vector<file::StatTable> tables;
     file::StatTable streamEnd;      // the table a chain-state stream ends with (b, its samples, the mutations)
     std::vector<std::string> notes; // warnings about the run, for the user
-    std::string summary; // b, the strategies' table and the path lengths: lines for the user, each ending in '\n'
+    // The direct part's and b's lines, the strategies' table and the path lengths: lines for the user, each ending in
+    // '\n'.
+    std::string summary;
     std::string rates;   // "8 mutations/pixel in 2.1 s (...k mutations/s, ...M rays/s)": the last line
 };
 
@@ -78,14 +82,19 @@ private:
     // Whether the chains have seed paths to start from (a seed file with none leaves the path space to seed itself).
     [[nodiscard]] bool seeded() const { return seeds_ && !seeds_->paths.empty(); }
     [[nodiscard]] int maxEdges() const;
+    [[nodiscard]] bool split() const { return settings_.direct.appliesTo(settings_.paths); }
     // Seeds (unless a seed file did), prepares the mutations (their tables into `prepared`) and runs the chains.
     void runPathSpace(const RunControl& control, const PathDump& dump, SampleFilm& film, MltOutcome& out,
                       std::vector<file::StatTable>& prepared);
-    [[nodiscard]] std::string summary(const MltOutcome& out) const;
+    [[nodiscard]] std::string summary(const MltOutcome& out, const std::optional<DirectSplitRecord>& direct,
+                                      const RenderStats& directStats) const;
+    // A warning when b's relative standard error is too large for the image to be trusted, naming what to do.
+    [[nodiscard]] std::string untrustedB(const ChainRunStats& st) const;
     [[nodiscard]] static std::string rates(const ChainRunStats& st, double pixels);
 
     const Scene& scene_;
     MltSettings settings_;
+    PathSettings chainPaths_; // the chains' paths: settings_.paths without the direct part's when split
     std::optional<PathSpaceSeeds> seeds_;
     std::optional<double> seedFileB_; // a seed file's b, recorded
     MutationKinds kinds_;

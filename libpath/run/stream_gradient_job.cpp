@@ -1,6 +1,7 @@
 #include "run/stream_gradient_job.h"
 
 #include <iomanip>
+#include <limits>
 #include <sstream>
 
 #include "run/run_summary.h"
@@ -21,6 +22,16 @@ StreamGradientJob::StreamGradientJob(const Scene& scene, file::Reader& stream, c
         throw Error(stream.name() + ": made at resolution " + made["resolution"].dump() + " but the film is " +
                     std::to_string(film.width) + "x" + std::to_string(film.height) +
                     " (give the same --resolution to both tools)");
+    // The chains left the direct part out (lt-mutate --direct-samples): this stage renders it, as lt-mutate would
+    // with the same seed. Streams written before the split hold every path.
+    if (const auto d = made.find("direct_samples"); d != made.end()) {
+        if (!d->is_number_integer() || *d == 0 || *d < -1 || *d > std::numeric_limits<int>::max())
+            throw Error(stream.name() + ": its direct_samples " + d->dump() + " is neither -1 nor a positive integer");
+        settings_.direct.samples = d->get<int>();
+    }
+    if (const auto seed = made.find("seed"); seed != made.end() && seed->is_number_unsigned())
+        settings_.seed = seed->get<uint64_t>();
+    settings_.paths.rrDepth = scene.integrator.rrDepth;
 }
 
 nlohmann::json StreamGradientJob::parameters() const {
@@ -28,6 +39,7 @@ nlohmann::json StreamGradientJob::parameters() const {
             {"stream_producer", stream_.info().value("producer", "")},
             {"chain_parameters", stream_.info().value("parameters", nlohmann::json::object())},
             {"shift_threshold", settings_.shiftThreshold},
+            {"direct_samples", settings_.direct.samples},
             {"weights", "pairs of a state and its shift, g*(x) / (g*(x) + g*(Tx) |T'|) with g* = lum f, each over the "
                         "chain's density b f*(x) / N"}};
 }

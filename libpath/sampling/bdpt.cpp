@@ -300,7 +300,7 @@ Spectrum Bdpt::sample(const Vec2& raster, SampleGenerator& sampler, std::vector<
         for (int s = 0; s <= int(light.size()); ++s) {
             const int edges = s + t - 1;
             if (edges < 1 || (s == 1 && t == 1)) continue;
-            if (settings_.maxDepth >= 0 && edges > settings_.maxDepth) continue;
+            if (edges < settings_.minDepth || (settings_.maxDepth >= 0 && edges > settings_.maxDepth)) continue;
             const bool single = settings_.onlyS >= 0;
             if (single && (s != settings_.onlyS || t != settings_.onlyT)) continue;
             Vec2 splatRaster;

@@ -32,9 +32,10 @@ struct RunControl {
         : threads(threads_), snapshot(std::move(snapshot_)) {}
 
     int threads = 0; // 0 = all cores
-    // When the run began, for its clock and time limit: set it before work done ahead of the run (a Markov
-    // chain's own BDPT seeding, a pipeline's earlier stage) so that it counts; empty: when the run starts.
-    std::optional<std::chrono::steady_clock::time_point> start;
+    // When the run began, for its clock, time limit and ray count: set it before work done ahead of the run (a
+    // Markov chain's own BDPT seeding, the direct part of the image, a pipeline's earlier stage) so that it counts;
+    // empty: when the run starts.
+    std::optional<RunStart> start;
     const std::atomic<bool>* stop = nullptr; // Ctrl-C: the run ends at its next item and keeps what it merged
     RunProgressCallback progress;
     RunSnapshotCallback snapshot;

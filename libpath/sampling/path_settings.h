@@ -11,6 +11,9 @@ namespace lt {
 
 struct PathSettings {
     int maxDepth = -1; // Mitsuba's meaning: the most edges a path may have (-1: unbounded)
+    // The fewest edges a path may have: shorter ones are another estimator's. The Markov chains leave paths of
+    // one and two edges to the direct part of the image (mcmc/direct_split.h), which sets 3 here.
+    int minDepth = 1;
     int rrDepth = 5;   // from this many edges on, subpaths continue by Russian roulette
     MisHeuristic mis = MisHeuristic::Power;
     // BDPT, for tests: evaluate only this one strategy, unweighted (each strategy alone is unbiased for the
@@ -20,6 +23,8 @@ struct PathSettings {
     // Throws lt::Error for a bound that is neither -1 nor positive: every estimator checks its settings so.
     void check() const {
         if (maxDepth == 0 || maxDepth < -1) throw Error("maxDepth must be -1 (unbounded) or at least 1");
+        if (minDepth < 1 || (maxDepth > 0 && minDepth > maxDepth))
+            throw Error("minDepth must be at least 1 and at most maxDepth");
     }
 };
 

@@ -12,15 +12,15 @@ namespace {
 double processCpuSeconds() { return double(std::clock()) / CLOCKS_PER_SEC; }
 } // namespace
 
-RunClock::RunClock(std::optional<TimePoint> start)
-    : start_(start.value_or(std::chrono::steady_clock::now())), cpuStart_(processCpuSeconds()),
-      raysBefore_(EmbreeAccel::rayCount()) {}
+RunStart RunStart::now() { return {std::chrono::steady_clock::now(), processCpuSeconds(), EmbreeAccel::rayCount()}; }
+
+RunClock::RunClock(std::optional<RunStart> start) : start_(start.value_or(RunStart::now())) {}
 
 double RunClock::wallSeconds() const {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count() - snapshotSeconds_;
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_.wall).count() - snapshotSeconds_;
 }
 
-double RunClock::cpuSeconds() const { return processCpuSeconds() - cpuStart_; }
+double RunClock::cpuSeconds() const { return processCpuSeconds() - start_.cpuSeconds; }
 
 RunProgress RunClock::progress(const char* phase, double fraction, uint64_t samples, uint64_t totalSamples) const {
     RunProgress p;
@@ -58,7 +58,7 @@ void RunClock::close(RunRecord& record) const {
     record.wallSeconds = wallSeconds();
     record.cpuSeconds = cpuSeconds();
     record.snapshotSeconds = snapshotSeconds_;
-    record.rays = EmbreeAccel::rayCount() - raysBefore_;
+    record.rays = EmbreeAccel::rayCount() - start_.rays;
 }
 
 } // namespace lt

@@ -53,11 +53,18 @@ struct RunRecord {
 [[nodiscard]] file::StatTable runTable(const RunRecord& record, std::vector<std::pair<std::string, double>> counts,
                                        const std::vector<std::pair<std::string, double>>& times = {});
 
+// When a run began, on each of its counters: wall time, the process's CPU time and the rays traced so far.
+struct RunStart {
+    std::chrono::steady_clock::time_point wall;
+    double cpuSeconds = 0;
+    uint64_t rays = 0;
+    [[nodiscard]] static RunStart now();
+};
+
 class RunClock {
 public:
-    using TimePoint = std::chrono::steady_clock::time_point;
     // `start`: when the run began; empty: now.
-    explicit RunClock(std::optional<TimePoint> start = std::nullopt);
+    explicit RunClock(std::optional<RunStart> start = std::nullopt);
 
     [[nodiscard]] double wallSeconds() const; // snapshot writing excluded
     [[nodiscard]] double cpuSeconds() const;
@@ -74,9 +81,7 @@ public:
     void close(RunRecord& record) const;
 
 private:
-    TimePoint start_;
-    double cpuStart_;
-    uint64_t raysBefore_;
+    RunStart start_;
     double snapshotSeconds_ = 0;
 };
 

@@ -18,6 +18,7 @@ struct SeedFile {
     std::vector<file::PathRecord> paths; // draws in proportion to weight; a path may appear repeatedly
     double b = 0;                        // the seed run's estimate of the integral of f* over the image
     uint64_t samples = 0;                // camera samples that estimate came from
+    int minEdges = 1; // the paths and b leave out shorter paths (the direct split; files without the row: 1)
 };
 
 // Writes the reservoir's draws and the normalization table of a run of `samples` camera samples over
@@ -29,7 +30,8 @@ struct SeedFileWritten {
 SeedFileWritten writeSeedFile(file::Writer& writer, const SeedReservoir& reservoir, uint64_t samples, double pixels);
 
 // The seed file read by file::readAll; throws lt::Error naming the file when b or the sample count is
-// missing or not a finite number.
-[[nodiscard]] SeedFile readSeedFile(file::Content&& content);
+// missing or not a finite number, and when its paths do not fit chains of paths from `minEdges` edges on (seeds
+// with or without the paths of the direct part, sampling/direct_split.h, for chains of the other kind).
+[[nodiscard]] SeedFile readSeedFile(file::Content&& content, int minEdges);
 
 } // namespace lt

@@ -4,11 +4,13 @@
 
 namespace lt {
 
-SeedReservoir::SeedReservoir(size_t capacity, uint64_t seed) : slots_(capacity), rng_(seed, 0x5eed) {}
+SeedReservoir::SeedReservoir(size_t capacity, uint64_t seed, int minEdges)
+    : slots_(capacity), rng_(seed, 0x5eed), minEdges_(minEdges) {}
 
 void SeedReservoir::add(const file::PathRecord& rec) {
     const double w = rec.weight;
     if (!(w > 0) || !std::isfinite(w) || slots_.empty()) return;
+    if (minEdges_ > 1 && int(rec.vertices.size()) - 1 < minEdges_) return;
     ++candidates_;
     total_ += w;
     const double p = w / total_;

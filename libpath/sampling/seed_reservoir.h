@@ -19,10 +19,14 @@ namespace lt {
 
 class SeedReservoir {
 public:
-    SeedReservoir(size_t capacity, uint64_t seed);
+    // `minEdges`: shorter paths are not candidates, and b leaves them out (the chains of the direct split, whose
+    // target holds no path of the direct part: sampling/direct_split.h).
+    SeedReservoir(size_t capacity, uint64_t seed, int minEdges = 1);
 
-    // Offer one candidate (its weight is rec.weight; zero or non-finite weights are not candidates).
+    // Offer one candidate (its weight is rec.weight; zero or non-finite weights, and paths shorter than minEdges,
+    // are not candidates).
     void add(const file::PathRecord& rec);
+    [[nodiscard]] int minEdges() const { return minEdges_; }
 
     [[nodiscard]] double totalWeight() const { return total_; }
     // b, the integral of f* over the image (MCMC survey, Eq. 12), from a run of `samples` camera samples
@@ -38,6 +42,7 @@ public:
 private:
     std::vector<std::shared_ptr<const file::PathRecord>> slots_;
     Pcg32 rng_;
+    int minEdges_;
     double total_ = 0;
     uint64_t candidates_ = 0;
 };

@@ -3,7 +3,8 @@
 #   render_method METHOD OUT.lts SECONDS SEED [tool options...]
 # Methods: pt, bdpt (lt-seed); mlt, pssmlt, mmlt (lt-mutate --space path | primary | multiplexed; mlt
 # seeds itself with BDPT inside its time and takes --strategies auto: Veach's perturbations, and the
-# manifold perturbation on scenes with specular chains); memlt
+# manifold perturbation on scenes with specular chains; all with the direct split, lt-mutate's default) and
+# mlt-nosplit, pssmlt-nosplit, mmlt-nosplit (the same with --direct-samples -1: the chains render every path); memlt
 # (path space with the bidirectional mutation and the manifold perturbation, as Jakob & Marschner define
 # MEMLT); hslt (path space with the bidirectional and half-vector mutations, the pairing of Kaplanyan et al.
 # 2014); mlt-lens and portal (Otsu et al.'s baseline and method: bidirectional : lens = 1 : 1, and
@@ -13,15 +14,18 @@
 # and gdmlt (gradient-domain MLT: lt-mutate --stream - | lt-gradient --from-paths -, the chains targeting luminance
 # or the gradients, then L2; -l1 with L1), the chains' own image kept as mlt-gd.chains.lts or gdmlt.chains.lts.
 # Unknown methods are refused by name.
-known_methods="pt bdpt mlt pssmlt mmlt memlt hslt mlt-lens portal gpt gdpr gpt-l1 gdpr-l1 mlt-gd gdmlt mlt-gd-l1 gdmlt-l1"
+known_methods="pt bdpt mlt pssmlt mmlt mlt-nosplit pssmlt-nosplit mmlt-nosplit memlt hslt mlt-lens portal gpt gdpr gpt-l1 gdpr-l1 mlt-gd gdmlt mlt-gd-l1 gdmlt-l1"
 
 render_method() {
   local method="$1" file="$2" time="$3" seed="$4"; shift 4
   case "$method" in
     pt|bdpt) "$bin/lt-seed" "$scene" --method "$method" --time "$time" --seed "$seed" --snapshots doubling -o "$file" -q "$@" ;;
-    mlt|pssmlt|mmlt)
-      local space=path; [ "$method" = pssmlt ] && space=primary; [ "$method" = mmlt ] && space=multiplexed
-      "$bin/lt-mutate" "$scene" --space "$space" --time "$time" --seed "$seed" --snapshots doubling -o "$file" -q "$@" ;;
+    mlt|pssmlt|mmlt|mlt-nosplit|pssmlt-nosplit|mmlt-nosplit)
+      local space=path split=16
+      case "$method" in pssmlt*) space=primary ;; mmlt*) space=multiplexed ;; esac
+      case "$method" in *-nosplit) split=-1 ;; esac
+      "$bin/lt-mutate" "$scene" --space "$space" --direct-samples "$split" --time "$time" --seed "$seed" \
+        --snapshots doubling -o "$file" -q "$@" ;;
     memlt)
       "$bin/lt-mutate" "$scene" --strategies bidirectional,manifold --time "$time" --seed "$seed" --snapshots doubling \
         -o "$file" -q "$@" ;;

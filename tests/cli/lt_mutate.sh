@@ -75,6 +75,23 @@ check "corrupt seed file: one line naming it" '[ $code -ne 0 ] && [ "$(echo "$ou
 "$bin/lt-seed" "$src/scenes/cornell-spheres/scene.xml" --spp 1 --resolution 8x8 --paths "$tmp/other.ltp" -o "$tmp/o.lts" -q
 out=$("$bin/lt-mutate" "$scene" "$tmp/other.ltp" --time 1 -o "$tmp/x.lts" 2>&1); code=$?
 check "seeds of another scene: refused" '[ $code -ne 0 ] && echo "$out" | grep -q "scene"'
+# The direct split (default): seeds must be made for the same kind of chains, the output says how much came from each part.
+"$bin/lt-seed" "$scene" --spp 1 --paths "$tmp/all.ltp" --direct-split off -o "$tmp/o.lts" -q
+out=$("$bin/lt-mutate" "$scene" "$tmp/all.ltp" --time 1 -o "$tmp/x.lts" 2>&1); code=$?
+check "seeds with the direct part's paths for chains without them: one line naming the file and the fix" \
+  '[ $code -ne 0 ] && [ "$(echo "$out" | wc -l)" -eq 1 ] && echo "$out" | grep -q "all.ltp:.*lt-seed --direct-split on"'
+"$bin/lt-seed" "$scene" --spp 1 --paths "$tmp/split.ltp" -o "$tmp/o.lts" -q
+out=$("$bin/lt-mutate" "$scene" "$tmp/split.ltp" --direct-samples -1 --time 1 -o "$tmp/x.lts" 2>&1); code=$?
+check "seeds without the direct part's paths for chains that render every path: refused in one line" \
+  '[ $code -ne 0 ] && [ "$(echo "$out" | wc -l)" -eq 1 ] && echo "$out" | grep -q "split.ltp:.*--direct-split off"'
+"$bin/lt-mutate" "$scene" "$tmp/split.ltp" --mutations 5000 --chains 8 -o "$tmp/split.lts" -q; code=$?
+stats=$("$bin/lt-inspect" "$tmp/split.lts")
+check "the direct split: exit 0, direct.R/G/B and the direct_split table in the output" \
+  '[ $code -eq 0 ] && echo "$stats" | grep -q "direct.G" && echo "$stats" | grep -q "direct_share"'
+out=$("$bin/lt-mutate" "$scene" --direct-samples 0 --time 1 -o "$tmp/x.lts" 2>&1); code=$?
+check "--direct-samples 0 refused in one line" '[ $code -ne 0 ] && [ "$(echo "$out" | wc -l)" -eq 1 ] && echo "$out" | grep -q direct-samples'
+out=$("$bin/lt-seed" "$scene" --spp 1 --direct-split off -o "$tmp/x.lts" 2>&1); code=$?
+check "lt-seed --direct-split without --paths refused" '[ $code -ne 0 ] && echo "$out" | grep -q "needs --paths"'
 "$bin/lt-mutate" "$scene" --large-step 2 --time 1 -o "$tmp/x.lts" > /dev/null 2>&1; code=$?
 check "large-step probability above 1 refused" '[ $code -ne 0 ]'
 check "no output left behind by failed runs" '[ ! -e "$tmp/x.lts" ]'

@@ -39,13 +39,13 @@ public:
         s_.run.snapshots = run_.snapshots();
         requireChainMemory(s_.run.chains); // before the scene and the start-up, which keeps 4 seeds per chain
         auto scene = run_.loadScene();
+        const MltSettings settings = mltSettings(*scene);
         std::optional<PathSpaceSeeds> seeds;
         if (!seedsPath_.empty()) {
             auto content = file::readAll(seedsPath_, file::FileKind::Paths);
             file::checkSceneHash(content.info, scene->contentHash, content.name, run_.scenePath);
-            seeds = seedsFromFile(std::move(content));
+            seeds = seedsFromFile(std::move(content), settings.direct.chainPaths(settings.paths).minDepth);
         }
-        const MltSettings settings = mltSettings(*scene);
         MltJob job(*scene, settings, std::move(seeds), kinds_);
         for (const auto& note : job.notes())
             run_.tell(note);
@@ -60,7 +60,7 @@ public:
 
         Progress progress("lt-mutate", run_.quiet);
         RunControl control = run_.control(progress, writer, RunOptions::pixels(*scene), "mutations/pixel");
-        control.start = std::chrono::steady_clock::now(); // the seeding counts toward the run's time
+        control.start = RunStart::now(); // the seeding and the direct part count toward the run's time
         const MltOutcome out = job.run(control, dump);
         progress.finish();
         if (dumpWriter) dumpWriter->finish();
@@ -84,8 +84,9 @@ private:
         app_.add_option("--chains", s_.run.chains, "independent chains (default 256, whatever the thread count)")
             ->check(PositiveNumber);
         app_.add_option("--max-length-unbounded", s_.unboundedEdges,
-                        "the path-length bound of multiplexed chains and of the path-space mutations when the max "
-                        "depth is -1 (default 12)")
+                        "multiplexed, max depth -1: the path lengths the start-up covers first (default 12); it "
+                        "doubles them while the paths beyond carry over 0.1 % of b, up to 1023 edges (the path-space "
+                        "mutations and PSSMLT need no bound)")
             ->check(PositiveNumber);
         app_.add_option("--large-step", s_.largeStep, "probability of a large step (default 0.3, Mitsuba's)")
             ->check(CLI::Range(0.0, 1.0));
@@ -105,6 +106,13 @@ private:
                         "(default 0.0625, one per 16 mutations of a chain; 0 keeps the seed run's b). The primary "
                         "spaces refine b with their large steps")
             ->check(CLI::Range(0.0, 1.0));
+        app_.add_option("--direct-samples", s_.direct.samples,
+                        "samples per pixel of the direct part: paths of 1 and 2 edges (emitters seen directly, direct "
+                        "illumination) rendered by path tracing with MIS and Sobol samples, the chains (their start-up, "
+                        "seeds and b) render the rest; the image is the sum, and its direct.R/G/B channels and STAT "
+                        "direct_split say how much came from each (default 16, as Mitsuba's directSamples; -1: the "
+                        "chains render every path). Seed files must be made for the same split (lt-seed "
+                        "--direct-split)");
         app_.add_option("--round", s_.run.mutationsPerRound,
                         "mutations per chain between merges (default 64; sets the granularity of snapshots, not the "
                         "estimate)")
@@ -140,6 +148,7 @@ private:
 
     // What the user gave that does not go together.
     void checkOptions() const {
+        s_.direct.check();
         const bool path = space_ == "path";
         if (!path) {
             if (!dumpPaths_.empty()) throw Error("--dump-paths needs --space path");
@@ -155,6 +164,9 @@ private:
         } else if (app_.count("--large-step")) {
             throw Error("--large-step is for --space primary and multiplexed");
         }
+        if (space_ != "multiplexed" && app_.count("--max-length-unbounded"))
+            throw Error("--max-length-unbounded is for --space multiplexed (the path-space mutations and PSSMLT build "
+                        "paths of any length with --max-depth -1)");
         if (dumpPaths_.empty() != (dumpEvery_ == 0)) throw Error("--dump-paths and --dump-every go together");
         if (target_ != "gradient" && (app_.count("--gradient-alpha") || app_.count("--shift-threshold")))
             throw Error("--gradient-alpha and --shift-threshold are options of --target gradient");

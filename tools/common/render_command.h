@@ -19,6 +19,7 @@
 #include "common/run_options.h"
 #include "run/estimator_registry.h"
 #include "run/render_job.h"
+#include "sampling/direct_split.h"
 #include "sampling/seed_file.h"
 
 namespace lt::tool {
@@ -95,7 +96,7 @@ public:
         if (!pathsOut_.empty()) {
             pathWriter.emplace(pathsOut_, file::FileKind::Paths,
                                makeInfo(app_.get_name(), argc, argv, seedParameters(params), scene.get()));
-            reservoir.emplace(maxPaths_, run_.seed ^ 0x9e3779b97f4a7c15ULL);
+            reservoir.emplace(maxPaths_, run_.seed ^ 0x9e3779b97f4a7c15ULL, seedSplit().chainPaths(paths).minDepth);
         }
 
         const auto estimator = kind.make(*scene, paths, values);
@@ -120,6 +121,11 @@ private:
         app_.add_option("--max-paths", maxPaths_,
                         "seed paths to keep: independent draws in proportion to weight (default 100000)")
             ->check(PositiveNumber);
+        app_.add_option("--direct-split", directSplit_,
+                        "with --paths: on (default) leaves the paths of 1 and 2 edges out of the seed paths and their b, "
+                        "for lt-mutate's chains that leave them to the direct part (its default, --direct-samples); off "
+                        "keeps them, for lt-mutate --direct-samples -1. The image is whole either way")
+            ->check(CLI::IsMember({"on", "off"}));
         app_.add_option("--sampler", sampler_,
                         "random numbers of a pixel's samples: independent (default; PCG32) or sobol (padded "
                         "Owen-scrambled Sobol' points, Burley 2020: each 1D and 2D sample of a path is stratified over "
@@ -138,6 +144,7 @@ private:
         if (!front_.seedPaths) return;
         if (run_.out == "-" && pathsOut_ == "-") throw Error("only one of -o and --paths can be stdout");
         if (pathsOut_.empty() && app_.count("--max-paths")) throw Error("--max-paths needs --paths");
+        if (pathsOut_.empty() && app_.count("--direct-split")) throw Error("--direct-split needs --paths");
         if (kind.name != "bdpt" && !pathsOut_.empty())
             throw Error("--paths needs --method bdpt (seed paths are BDPT strategies)");
     }
@@ -156,8 +163,16 @@ private:
         return values;
     }
 
+    // The split of the chains the seed paths are for (sampling/direct_split.h): only whether there is one matters.
+    [[nodiscard]] DirectSplit seedSplit() const {
+        DirectSplit split;
+        if (directSplit_ == "off") split.samples = -1;
+        return split;
+    }
+
     [[nodiscard]] nlohmann::json seedParameters(nlohmann::json p) const {
         p["max_paths"] = maxPaths_;
+        p["direct_split"] = directSplit_;
         p["selection"] = "independent draws with replacement, each proportional to weight over all candidates (K "
                          "weighted reservoirs of size one): pick uniformly among them";
         p["b_convention"] = "STAT normalization.b = integral over the sensor's raster positions of (crop pixels) x "
@@ -177,7 +192,7 @@ private:
     std::vector<const EstimatorKind*> kinds_;
     RunOptions run_;
     RegistryOptions estimatorOptions_;
-    std::string method_, pathsOut_, sampler_ = "independent";
+    std::string method_, pathsOut_, sampler_ = "independent", directSplit_ = "on";
     int spp_ = 0, rrDepth_ = 0, tile_ = 32;
     size_t maxPaths_ = 100000;
 };

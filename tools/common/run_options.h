@@ -40,7 +40,7 @@ struct RunOptions {
     bool strict = false, quiet = false;
     // When the tool started: a stage of a pipe (lt-gradient --from-paths) counts its time from here, since the
     // stages of a pipe start together.
-    std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
+    RunStart start = RunStart::now();
     std::string tool;
 
     void add(CLI::App& app, const RunOptionText& text) {

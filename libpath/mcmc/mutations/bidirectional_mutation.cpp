@@ -31,8 +31,8 @@ bool movableEmitter(const Emitter& e) { return e.shape >= 0 || (e.isInfinite() &
 
 } // namespace
 
-BidirectionalMutation::BidirectionalMutation(const Scene& scene, int maxEdges)
-    : scene_(scene), maxEdges_(maxEdges), sensor_(scene.camera), cameraMovable_(scene.camera.hasAperture()) {
+BidirectionalMutation::BidirectionalMutation(const Scene& scene, int maxEdges, int minEdges)
+    : scene_(scene), maxEdges_(maxEdges), minEdges_(minEdges), sensor_(scene.camera), cameraMovable_(scene.camera.hasAperture()) {
     std::vector<double> weights(scene.emitters.size(), 0.0);
     for (size_t i = 0; i < scene.emitters.size(); ++i)
         if (movableEmitter(*scene.emitters[i])) movableEmitterMass_ += weights[i] = scene.emitterSelection.pmf(i);
@@ -57,7 +57,7 @@ double BidirectionalMutation::addedProbability(int k, int kd, int l, int ka) con
     const int endpoints = int(l == -1) + int(l + kd == k + 1);
     auto admissible = [&](int a) {
         const int length = k - kd + a;
-        return a >= 1 && std::abs(a - kd) <= MaxLengthChange && length >= 1 && length <= maxEdges_ &&
+        return a >= 1 && std::abs(a - kd) <= MaxLengthChange && length >= minEdges_ && length <= maxEdges_ &&
                !(kd == 1 && a == 1) && a - 1 >= endpoints;
     };
     if (!admissible(ka)) return 0;
@@ -292,7 +292,7 @@ const MutationKind BidirectionalMutation::Kind{
     "replaces any part of a path; required: the others alone are not ergodic",
     {},
     [](const MutationContext& c, const OptionValues&) -> std::unique_ptr<Mutation> {
-        return std::make_unique<BidirectionalMutation>(c.scene, c.maxEdges);
+        return std::make_unique<BidirectionalMutation>(c.scene, c.maxEdges, c.minEdges);
     },
     [](const SceneFeatures&) { return std::string(); },
     {},

@@ -29,8 +29,9 @@ public:
     // Its row of the registry (mcmc/mutation_registry.h).
     static const MutationKind Kind;
 
-    // maxEdges: the longest path the chain may reach (the scene's maxDepth, or a bound when unbounded).
-    BidirectionalMutation(const Scene& scene, int maxEdges);
+    // maxEdges: the longest path the chain may reach (the scene's maxDepth, or a bound when unbounded); minEdges the
+    // shortest (PathSettings::minDepth: the direct split leaves paths of one and two edges out of the chains).
+    BidirectionalMutation(const Scene& scene, int maxEdges, int minEdges = 1);
 
     [[nodiscard]] std::string name() const override { return Kind.name; }
     [[nodiscard]] bool suitable(const MarkovPath&) const override { return true; }
@@ -70,7 +71,7 @@ private:
     [[nodiscard]] int highestStart(int k, int kd) const { return k - kd + (cameraMovable_ && kd >= 2 ? 1 : 0); }
 
     const Scene& scene_;
-    int maxEdges_;
+    int maxEdges_, minEdges_;
     SensorWindow sensor_;
     bool cameraMovable_ = false;
     double movableEmitterMass_ = 0; // selection probability of the emitters whose vertex can move (area, environment)

@@ -149,11 +149,11 @@ public:
     // TailBound of b, the lengths double (file comment of primary_space_chains.h), each new one with its pilot, and the
     // rounds go on.
     void run(NormalizationEstimate& b) {
-        b = NormalizationEstimate(size_t(lengths_) + 1);
+        b = NormalizationEstimate(multiplexed_ ? size_t(lengths_) + 1 : 1);
         pilot(first_, b);
         rounds(b);
         while (unbounded_ && !runner_.stopped()) {
-            tail_ = tailEstimate();
+            tail_ = tailEstimate(b);
             if (!(tail_.b > TailBound * (b.b() + tail_.b)) || lengths_ >= MaxUnboundedEdges) break;
             const int from = lengths_ + 1;
             addLengths(std::min(2 * lengths_, MaxUnboundedEdges));
@@ -209,17 +209,9 @@ private:
     // probability (1 - c) c^(j - 1) (Russian roulette beyond L), u uniform, and f*(L + j, u) over that probability.
     // c follows the decay of b over the last two lengths, within [0.5, 0.95]; lengths beyond MaxUnboundedEdges count
     // as 0. As many samples as the last length's budget, at least 4096, keyed by their index.
-    [[nodiscard]] Tail tailEstimate() {
-        const auto& last = values_[size_t(lengths_)];
-        const auto& before = values_[size_t(lengths_) - 1];
-        const auto mean = [](const std::vector<double>& v) {
-            double sum = 0;
-            for (const double x : v)
-                sum += x;
-            return v.empty() ? 0.0 : sum / double(v.size());
-        };
-        const double decay = mean(before) > 0 ? mean(last) / mean(before) : 0.5;
-        const double c = std::clamp(decay, 0.5, 0.95);
+    [[nodiscard]] Tail tailEstimate(const NormalizationEstimate& b) {
+        const double before = b.stratumB(size_t(lengths_) - 1);
+        const double c = std::clamp(before > 0 ? b.stratumB(size_t(lengths_)) / before : 0.5, 0.5, 0.95);
         const uint64_t n = std::max<uint64_t>(4096, uint64_t(budgetCount_[size_t(lengths_)]));
         constexpr uint64_t Block = 256;
         std::vector<double> values(n);
@@ -242,13 +234,10 @@ private:
             [](uint64_t) {});
         nonFinite_ += nonFiniteBlocks_.exchange(0);
         spent_ += double(n) * cost(lengths_ + int(1 / (1 - c)));
-        double sum = 0, squares = 0;
-        for (const double v : values) {
-            sum += v;
-            squares += v * v;
-        }
-        const double m = sum / double(n);
-        return {m, std::sqrt(std::max(0.0, squares / double(n) - m * m) / double(n - 1))};
+        NormalizationEstimate tail;
+        for (const double v : values)
+            tail.add(0, v);
+        return {tail.b(), tail.stratumStandardError(0)};
     }
 
     // The samples of the next round: half the work so far (the start-up ends within 1.5 times the work its error

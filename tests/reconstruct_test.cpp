@@ -415,6 +415,76 @@ TEST_CASE("L1 resists sparse huge gradient outliers that ruin L2", "[reconstruct
     }
 }
 
+TEST_CASE("L1 keeps the primal's mean: the energy it takes from a firefly comes back around it", "[reconstruct]") {
+    // A firefly in the primal that the gradients do not see (the path's shifts failed): L1 trusts the gradients and
+    // its neighbours and drops it, which moves the image mean (screened_poisson.h). The restoration adds back the
+    // primal's residual through the kernel S = (beta^2 + D^T D)^-1 beta^2, beta = 1 / meanScale, whose weights sum
+    // to one, so the mean comes back exactly; and S is the discrete screened Poisson Green's function, of which a
+    // disc of radius r holds 1 - (r beta) K1(r beta) in the continuum: 95 % at r = 4 / beta (K1(4) = 0.01248), so
+    // at least 90 % of the removed energy must sit within 4 meanScale of the firefly. Broken on purpose: with the
+    // residual added back unsmoothed (S = identity) the disc test passes but the firefly is back whole (the
+    // brightest pixel check fails); with it left out (MeanRestoration::Free) the mean is 39 % low and the disc
+    // holds nothing.
+    const uint32_t w = 64, h = 64;
+    const RgbPlanes truth = smoothImage(w, h);
+    GradientImage im = exactInput(truth, w, h);
+    Pcg32 rng(3, 8);
+    addNoise(im, rng, 0.02, 0.005);
+    const uint32_t fx = 30, fy = 33;
+    const size_t firefly = size_t(fy) * w + fx;
+    for (auto& plane : im.primal)
+        plane[firefly] += 4000; // about the energy of the whole image (64 x 64 x 1.2)
+    double primalSum = 0;
+    for (const auto& plane : im.primal)
+        for (float v : plane)
+            primalSum += v;
+    const auto sum = [](const file::Buffer& b) {
+        double total = 0;
+        for (size_t c = 0; c < 3; ++c)
+            for (float v : b.planes[c])
+                total += v;
+        return total;
+    };
+    for (auto solver : {PoissonSolver::Auto, PoissonSolver::EigenCg}) {
+        ReconstructSettings s;
+        s.norm = ReconstructNorm::L1;
+        s.solver = solver;
+        ReconstructStatistics kept, free;
+        const file::Buffer k = reconstructScreenedPoisson(im, s, kept);
+        s.mean = MeanRestoration::Free;
+        const file::Buffer f = reconstructScreenedPoisson(im, s, free);
+        INFO("solver " << int(solver) << ": mean shift free " << free.meanShift << ", kept " << kept.meanShift
+                       << " (its minimizer " << kept.solveMeanShift << ")");
+        CHECK(allFinite(k));
+        // The case of the test: L1 alone drops the firefly.
+        CHECK(free.meanShift < -0.35);
+        CHECK(free.meanShift == Approx(free.solveMeanShift));
+        CHECK(kept.solveMeanShift == Approx(free.solveMeanShift).epsilon(1e-6));
+        CHECK(free.meanScale == 0);
+        CHECK(kept.meanScale == kMeanScale);
+        // Exact in exact arithmetic; float storage of 12288 values about 1 and the CG tolerance (1e-5) leave 1e-5.
+        CHECK(std::abs(kept.meanShift) < 1e-5);
+        CHECK(std::abs(sum(k) / primalSum - 1) < 1e-5);
+        // Where the energy went: the difference to the free image, within 4 meanScale of the firefly.
+        double near = 0, all = 0, brightest = 0;
+        for (uint32_t y = 0; y < h; ++y)
+            for (uint32_t x = 0; x < w; ++x) {
+                const size_t p = size_t(y) * w + x;
+                double d = 0;
+                for (size_t c = 0; c < 3; ++c)
+                    d += double(k.planes[c][p]) - f.planes[c][p];
+                all += d;
+                if (std::hypot(double(x) - fx, double(y) - fy) <= 4 * kMeanScale) near += d;
+                brightest = std::max(brightest, double(k.planes[1][p]));
+            }
+        INFO("restored " << all << ", within 4 meanScale " << near << "; brightest pixel " << brightest);
+        CHECK(near > 0.9 * all);
+        // Spread, not put back: the kernel's centre weight is about beta^2 / (4 pi) ln(...) of order 1e-2, so the
+        // firefly's pixel keeps a few percent of its 4000.
+        CHECK(brightest < 0.1 * 4000);
+    }
+}
+
 TEST_CASE("a constant offset of the primal shifts the result by that offset", "[reconstruct]") {
     // D (I + c) = D I and alpha (I + c - (P + c)) = alpha (I - P): both objectives, and every IRLS weight,
     // are unchanged by the shift, so the minimizer moves by c.
@@ -524,17 +594,19 @@ TEST_CASE("statistics of a reconstruction", "[reconstruct]") {
     (void)reconstructScreenedPoisson(im, s, stats);
     CHECK(stats.norm == "l1");
     CHECK(stats.irlsIterations == 5);
-    CHECK(stats.solves == 3 * 5); // one per reweighting step (from the primal)
+    CHECK(stats.solves == 3 * 5 + 3); // one per reweighting step (from the primal), and the mean's restoration
+    CHECK(stats.meanScale == kMeanScale);
     CHECK(stats.finalCost < stats.initialCost);
     // DCT: capped, transform-preconditioned CG for each reweighting step; one exact solve per channel for L2.
     s.solver = PoissonSolver::Cosine;
     (void)reconstructScreenedPoisson(im, s, stats);
     CHECK(stats.solver == "DCT");
     CHECK(stats.solverReason == "requested");
-    CHECK(stats.solves == 3 * 5);
-    CHECK(stats.solverIterations == 3 * 5);
+    CHECK(stats.solves == 3 * 5 + 3);
+    CHECK(stats.solverIterations == 3 * 5 + 3);
     CHECK(stats.linearIterations > 0);
-    CHECK(stats.linearIterations <= 3 * 5 * kCosineL1Iterations);
+    // The restoration's L2 solves at 12 x 9 pixels are auto's: Ceres's Cholesky, one step each.
+    CHECK(stats.linearIterations <= 3 * 5 * kCosineL1Iterations + 3);
     CHECK(stats.linearResidual > 0);
     CHECK(stats.finalCost < stats.initialCost);
     s.norm = ReconstructNorm::L2;

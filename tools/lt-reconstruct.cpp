@@ -17,7 +17,11 @@ int main(int argc, char** argv) {
         "Eigen's conjugate gradients (see --solver).\n"
         "  L2: min_I alpha^2 |I - P|^2 + |Dx I - Gx|^2 + |Dy I - Gy|^2 (unbiased; linear in the inputs).\n"
         "  L1: the same with per-pixel RGB vector norms, not squared, by iteratively reweighted least squares:\n"
-        "      biased (though consistent) but robust: far fewer artifacts from outlier gradients.\n"
+        "      robust (far fewer artifacts from outlier gradients) but biased, though consistent: like a median it\n"
+        "      drops the energy of fireflies, which moves the image mean (by half on firefly-heavy renders). By\n"
+        "      default (--mean kept) the primal's residual P - I_L1 is smoothed over --mean-scale pixels and added\n"
+        "      back, which restores the primal's mean exactly and each region's at coarser scales (see --mean).\n"
+        "The summary line and the STAT table give how far the minimizer moved the mean and where it ended.\n"
         "Conventions (those of the public gradient-domain code): forward differences dx(x,y) = I(x+1,y) - I(x,y),\n"
         "dy(x,y) = I(x,y+1) - I(x,y), rows top to bottom, the last column of dx and last row of dy unused. alpha\n"
         "multiplies the primal residual, so it enters the L2 objective squared; larger alpha trusts the primal more.\n"
@@ -50,6 +54,18 @@ int main(int argc, char** argv) {
                    "artifacts at low sample counts, but biased)")
         ->check(CLI::IsMember({"l1", "l2"}));
     app.add_option("--alpha", settings.alpha, "weight of the primal residual (default 0.2); must be > 0");
+    std::string meanText = "kept";
+    app.add_option("--mean", meanText,
+                   "l1: kept (default: the energy L1 takes from fireflies comes back as a smooth glow of about "
+                   "--mean-scale pixels around them, so the image mean is the primal's and L1's robustness stays "
+                   "at finer scales) or free (the L1 minimizer of the papers, whose mean can land far from the "
+                   "primal's); L2 keeps the mean by itself")
+        ->check(CLI::IsMember({"kept", "free"}));
+    app.add_option("--mean-scale", settings.meanScale,
+                   "l1 with --mean kept: size in pixels of the kernel that restores the mean (default 8); larger "
+                   "spreads a firefly's energy wider (less noise, more local bias), smaller comes closer to the "
+                   "primal")
+        ->check(lt::tool::PositiveNumber);
     app.add_option("--iterations", settings.irlsIterations, "L1: reweighting (IRLS) steps (default 20)")
         ->check(lt::tool::PositiveNumber);
     app.add_option("--irls-reg", settings.irlsRegularizer,
@@ -75,6 +91,7 @@ int main(int argc, char** argv) {
     app.add_flag("-q,--quiet", quiet, "no progress or statistics output");
     return lt::tool::run(app, argc, argv, [&] {
         settings.norm = normText == "l1" ? lt::ReconstructNorm::L1 : lt::ReconstructNorm::L2;
+        settings.mean = meanText == "free" ? lt::MeanRestoration::Free : lt::MeanRestoration::Kept;
         settings.solver = solverText == "cholesky"   ? lt::PoissonSolver::SparseNormalCholesky
                           : solverText == "cgnr"     ? lt::PoissonSolver::Cgnr
                           : solverText == "eigen-cg" ? lt::PoissonSolver::EigenCg
@@ -84,6 +101,8 @@ int main(int argc, char** argv) {
         const nlohmann::json info = lt::tool::makeInfo("lt-reconstruct", argc, argv,
                                                        {{"norm", normText},
                                                         {"alpha", settings.alpha},
+                                                        {"mean", meanText},
+                                                        {"mean_scale", settings.meanScale},
                                                         {"iterations", settings.irlsIterations},
                                                         {"irls_reg", settings.irlsRegularizer},
                                                         {"irls_decay", settings.irlsDecay},

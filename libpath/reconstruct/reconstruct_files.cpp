@@ -1,6 +1,7 @@
 #include "reconstruct/reconstruct_files.h"
 
 #include <filesystem>
+#include <iomanip>
 #include <optional>
 #include <sstream>
 #include <variant>
@@ -130,7 +131,10 @@ nlohmann::json reconstructRecord(const ReconstructStatistics& s) {
             {"seconds", s.seconds},
             {"solver", s.solver},
             {"solver_reason", s.solverReason},
-            {"linear_residual", s.linearResidual}};
+            {"linear_residual", s.linearResidual},
+            {"mean_shift_solve", s.solveMeanShift},
+            {"mean_shift", s.meanShift},
+            {"mean_scale", s.meanScale}};
 }
 
 file::StatTable reconstructTable(const ReconstructStatistics& s) {
@@ -146,7 +150,10 @@ file::StatTable reconstructTable(const ReconstructStatistics& s) {
                                             {"solver", s.solverUsed == PoissonSolver::Cgnr      ? 2.0
                                                        : s.solverUsed == PoissonSolver::EigenCg ? 3.0
                                                        : s.solverUsed == PoissonSolver::Cosine  ? 4.0
-                                                                                                : 1.0}});
+                                                                                                : 1.0},
+                                            {"mean_shift_solve", s.solveMeanShift},
+                                            {"mean_shift", s.meanShift},
+                                            {"mean_scale", s.meanScale}});
 }
 
 std::string reconstructSummary(const ReconstructOutcome& outcome) {
@@ -159,7 +166,16 @@ std::string reconstructSummary(const ReconstructOutcome& outcome) {
     // The accuracy of Eigen CG or DCT, which measure it.
     if (s.solverUsed == PoissonSolver::EigenCg || s.solverUsed == PoissonSolver::Cosine)
         o << ", relative residual <= " << s.linearResidual;
-    o << "; cost " << s.initialCost << " -> " << s.finalCost << "; " << s.seconds << " s";
+    o << "; cost " << s.initialCost << " -> " << s.finalCost;
+    // The mean against the primal's: what the minimizer did to it, and what the image has.
+    const auto percent = [](double shift) {
+        std::ostringstream p;
+        p << std::showpos << std::fixed << std::setprecision(2) << 100 * shift << " %";
+        return p.str();
+    };
+    o << "; mean " << percent(s.solveMeanShift) << " from the primal's";
+    if (s.meanScale > 0) o << ", restored over " << s.meanScale << " px to " << percent(s.meanShift);
+    o << "; " << s.seconds << " s";
     return o.str();
 }
 

@@ -261,6 +261,8 @@ void checkSettings(const ReconstructSettings& s) {
         throw Error("the IRLS decay must be in (0, 1], got " + std::to_string(s.irlsDecay));
     if (s.maxLinearIterations < 0) throw Error("the linear solver iterations must not be negative");
     if (s.threads < 1) throw Error("threads must be at least 1");
+    if (!(s.meanScale > 0) || !std::isfinite(s.meanScale))
+        throw Error("the mean's scale must be positive and finite, got " + std::to_string(s.meanScale));
 }
 
 // The solver a reconstruction uses, with the reason in `statistics`.
@@ -430,21 +432,26 @@ RgbPlanes developSolution(const GradientImage& image, const Solution& x) {
     return out;
 }
 
-} // namespace
+// Sum over pixels and R, G, B of the planes (x, or the primal when x is null), the direct plane included.
+double imageSum(const GradientImage& image, const Solution* x) {
+    double sum = 0;
+    for (size_t c = 0; c < 3; ++c)
+        for (size_t p = 0; p < image.pixels(); ++p)
+            sum += (x ? (*x)[c][p] : double(image.primal[c][p])) + (image.direct ? (*image.direct)[c][p] : 0.0f);
+    return sum;
+}
 
-std::string normName(ReconstructNorm norm) { return norm == ReconstructNorm::L2 ? "l2" : "l1"; }
+// x's mean relative to the primal's, minus one (0 for a black primal).
+double meanShift(const GradientImage& image, const Solution& x) {
+    const double primal = imageSum(image, nullptr);
+    return primal != 0 ? imageSum(image, &x) / primal - 1 : 0.0;
+}
 
-file::Buffer reconstructScreenedPoisson(const GradientImage& image, const ReconstructSettings& settings,
-                                        ReconstructStatistics& statistics, const ReconstructProgress& progress) {
-    checkSettings(settings);
-    const auto start = std::chrono::steady_clock::now();
-    statistics = {};
-    statistics.norm = normName(settings.norm);
-    statistics.alpha = settings.alpha;
-    statistics.solverUsed = chooseSolver(settings, image.pixels(), statistics);
+// Minimizes the norm's objective from the primal (the warm start) and returns the minimizer. `progress` counts
+// `total` linear problems in all (the restoration of the mean may follow).
+Solution minimize(const GradientImage& image, const ReconstructSettings& settings, ReconstructStatistics& statistics,
+                  const ReconstructProgress& progress) {
     ChannelSolver solver(image, settings, statistics.solverUsed, statistics, progress);
-
-    // Warm start at the primal.
     Solution x;
     for (size_t c = 0; c < 3; ++c)
         x[c].assign(image.primal[c].begin(), image.primal[c].end());
@@ -469,6 +476,69 @@ file::Buffer reconstructScreenedPoisson(const GradientImage& image, const Recons
         }
     }
     statistics.finalCost = objective(image, x, settings.alpha, settings.norm);
+    return x;
+}
+
+// I_L1 + S (P - I_L1) (screened_poisson.h): the primal's residual smoothed by the L2 reconstruction of an image
+// without gradients, with alpha = 1 / meanScale (its solver's counts added to `statistics`).
+void restoreMean(const GradientImage& image, const ReconstructSettings& settings, Solution& x,
+                 ReconstructStatistics& statistics, const ReconstructProgress& progress) {
+    GradientImage residual;
+    residual.width = image.width;
+    residual.height = image.height;
+    for (size_t c = 0; c < 3; ++c) {
+        residual.primal[c].resize(image.pixels());
+        for (size_t p = 0; p < image.pixels(); ++p)
+            residual.primal[c][p] = float(image.primal[c][p] - x[c][p]);
+        residual.dx[c].assign(image.pixels(), 0.0f);
+        residual.dy[c].assign(image.pixels(), 0.0f);
+    }
+    ReconstructSettings smoothing = settings;
+    smoothing.norm = ReconstructNorm::L2;
+    smoothing.alpha = 1 / settings.meanScale;
+    smoothing.maxLinearIterations = 0;
+    // Auto's solvers for L2 (Ceres's Cholesky, the cosine transform) are exact, so the mean comes back exactly
+    // whatever solver the L1 steps used (Eigen CG to its tolerance of 1e-5 left the mean 2e-5 off).
+    smoothing.solver = PoissonSolver::Auto;
+    ReconstructStatistics own;
+    own.solverUsed = chooseSolver(smoothing, image.pixels(), own);
+    const Solution smooth = minimize(residual, smoothing, own, progress);
+    for (size_t c = 0; c < 3; ++c)
+        for (size_t p = 0; p < image.pixels(); ++p)
+            x[c][p] += smooth[c][p];
+    statistics.solves += own.solves;
+    statistics.solverIterations += own.solverIterations;
+    statistics.linearIterations += own.linearIterations;
+    statistics.linearResidual = std::max(statistics.linearResidual, own.linearResidual);
+    statistics.meanScale = settings.meanScale;
+}
+
+} // namespace
+
+std::string normName(ReconstructNorm norm) { return norm == ReconstructNorm::L2 ? "l2" : "l1"; }
+
+file::Buffer reconstructScreenedPoisson(const GradientImage& image, const ReconstructSettings& settings,
+                                        ReconstructStatistics& statistics, const ReconstructProgress& progress) {
+    checkSettings(settings);
+    const auto start = std::chrono::steady_clock::now();
+    statistics = {};
+    statistics.norm = normName(settings.norm);
+    statistics.alpha = settings.alpha;
+    statistics.solverUsed = chooseSolver(settings, image.pixels(), statistics);
+    const bool l1 = settings.norm == ReconstructNorm::L1;
+    const bool restore = l1 && settings.mean == MeanRestoration::Kept;
+    // Linear problems in all: three channels per L2 solve or IRLS step, and three for the restoration.
+    const int problems = 3 * (l1 ? settings.irlsIterations : 1), total = problems + (restore ? 3 : 0);
+    const ReconstructProgress counted = [&](int done, int) {
+        if (progress) progress(done, total);
+    };
+    Solution x = minimize(image, settings, statistics, counted);
+    statistics.solveMeanShift = meanShift(image, x);
+    if (restore)
+        restoreMean(image, settings, x, statistics, [&](int done, int) {
+            if (progress) progress(problems + done, total);
+        });
+    statistics.meanShift = meanShift(image, x);
     RgbPlanes out = developSolution(image, x);
     statistics.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return rgbBuffer(image.width, image.height, std::move(out));

@@ -4,6 +4,20 @@
 //   L2: min_I  alpha^2 |I - P|^2 + |Dx I - Gx|^2 + |Dy I - Gy|^2          (unbiased: linear in P, G)
 //   L1: min_I  sum_p |alpha (I - P)_p| + |(Dx I - Gx)_p| + |(Dy I - Gy)_p|  (per-pixel RGB vector norms)
 // alpha multiplies the primal residual, so it enters the L2 objective squared.
+//
+// The image mean. L2 keeps the primal's: summed over the pixels its normal equations
+// alpha^2 (I - P) + D^T (D I - G) = 0 leave alpha^2 sum (I - P) = 0, as D^T's columns sum to zero (a constant
+// has no differences). L1 does not: it acts like a median, and on firefly-heavy renders (rare paths of
+// high value, in the primal and in the gradients around it) it discards their energy: Kettunen et al. 2015
+// call it biased but consistent; lt measured a kitchen lit through windows 46-54 % low at 9 samples per
+// pixel. With MeanRestoration::Kept (the default) the primal's residual r = P - I_L1, where that energy
+// sits, is smoothed by the screened Poisson operator without gradients, S = (beta^2 + D^T D)^-1 beta^2 with
+// beta = 1 / meanScale (a kernel of about meanScale pixels whose weights sum to one: the argument above
+// with G = 0), and added back: I = I_L1 + S r. The result's mean is the primal's exactly, and every region
+// of about meanScale pixels keeps its own mean, so the energy L1 took from a firefly comes back as a
+// smooth glow around it rather than as the firefly: L1's robustness at the finest scales, the primal's
+// mean at coarse ones. It is unbiased for the image mean and for every region's mean at scales well above
+// meanScale, and keeps L1's (consistent) bias only in the detail below it.
 #pragma once
 
 #include <functional>
@@ -15,6 +29,11 @@
 namespace lt {
 
 enum class ReconstructNorm { L2, L1 };
+// Whether an L1 reconstruction's mean is restored to the primal's (see the top of this file).
+enum class MeanRestoration {
+    Kept, // I_L1 + S (P - I_L1): the primal's mean, L1's detail
+    Free, // the L1 minimizer as the papers define it, its mean wherever it lands
+};
 enum class PoissonSolver {
     Auto,                 // Ceres's sparse Cholesky up to kCholeskyMaxPixels; above, Cosine for L2, EigenCg for L1
     SparseNormalCholesky, // Ceres, exact; memory and time grow faster than the image
@@ -51,6 +70,11 @@ inline constexpr int kEigenCgL1Iterations = 10;
 // objective 19% higher at 640x360.
 inline constexpr int kCosineL1Iterations = 3;
 
+// The size in pixels of the kernel that restores L1's mean (1 / beta above). Measured on window-room
+// (G-PT, sun through a window, unbounded depth) at 4 samples per pixel: see the MEASURED note in
+// screened_poisson.cpp.
+inline constexpr double kMeanScale = 8;
+
 struct ReconstructSettings {
     ReconstructNorm norm = ReconstructNorm::L2;
     double alpha = 0.2;            // weight of the primal residual; > 0
@@ -63,6 +87,8 @@ struct ReconstructSettings {
     int maxLinearIterations = 0;
     PoissonSolver solver = PoissonSolver::Auto;
     int threads = 1;
+    MeanRestoration mean = MeanRestoration::Kept; // L1 only: L2 keeps the mean by itself
+    double meanScale = kMeanScale;                // the restoring kernel's size in pixels (1 / beta); > 0
 };
 
 struct ReconstructStatistics {
@@ -81,6 +107,12 @@ struct ReconstructStatistics {
     // Eigen CG and DCT: the largest |b - A I| / |b| at the end of a solve (0 otherwise); for DCT's exact
     // solves computed from the stencil afterwards, so it shows the rounding error.
     double linearResidual = 0;
+    // How far the image mean (over pixels and R, G, B, the direct plane included) moved from the primal's,
+    // relative to it: by the norm's minimizer (L2: rounding only) and in the image written (after the mean's
+    // restoration, if any). 0 for a black primal.
+    double solveMeanShift = 0;
+    double meanShift = 0;
+    double meanScale = 0; // the restoring kernel's size in pixels; 0 when the mean was not restored
 };
 
 // Called after each linear problem: (problems done, problems in all); the tool shows it as progress.

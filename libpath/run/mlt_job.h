@@ -88,8 +88,9 @@ private:
                       std::vector<file::StatTable>& prepared);
     [[nodiscard]] std::string summary(const MltOutcome& out, const std::optional<DirectSplitRecord>& direct,
                                       const RenderStats& directStats) const;
-    // A warning when b's relative standard error is too large for the image to be trusted, naming what to do.
-    [[nodiscard]] std::string untrustedB(const ChainRunStats& st) const;
+    // Warnings when b's relative standard error, or (MMLT) a length's b_k's, is too large for the image to be
+    // trusted, naming what to do.
+    [[nodiscard]] std::vector<std::string> untrustedB(const ChainRunStats& st) const;
     [[nodiscard]] static std::string rates(const ChainRunStats& st, double pixels);
 
     const Scene& scene_;

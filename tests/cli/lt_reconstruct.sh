@@ -39,8 +39,20 @@ ep=$(mse primal.exr truth.exr)
 check "L2 beats the primal ($el2 vs $ep)" 'awk -v a="$el2" -v b="$ep" "BEGIN { exit !(a > 0 && a < b / 4) }"'
 
 out=$("$bin/lt-reconstruct" in.lts --norm l1 --iterations 5 -o l1.exr 2>&1); code=$?
-check "L1: exit 0, EXR written, 5 IRLS steps" '[ $code -eq 0 ] && [ "$(magic l1.exr 4)" = "762f3101" ] &&
-  echo "$out" | grep -q "^lt-reconstruct: l1, alpha 0.2, 48x32: 5 IRLS steps, 15 solves"'
+check "L1: exit 0, EXR written, 5 IRLS steps and the mean's restoration" '[ $code -eq 0 ] &&
+  [ "$(magic l1.exr 4)" = "762f3101" ] &&
+  echo "$out" | grep -q "^lt-reconstruct: l1, alpha 0.2, 48x32: 5 IRLS steps, 18 solves" &&
+  echo "$out" | grep -Eq "; mean [-+][0-9.]+ % from the primal.s, restored over 8 px to [-+]0.00 %; "'
+# The mean's shift and its restoration in the STAT table; --mean free leaves the minimizer as it is.
+"$bin/lt-reconstruct" in.lts --norm l1 --iterations 5 --mean-scale 4 -o l1.lts -q
+out=$("$bin/lt-reconstruct" in.lts --norm l1 --iterations 5 --mean free -o l1free.lts 2>&1); code=$?
+check "L1: the mean in STAT, kept over --mean-scale by default, free on request" '[ $code -eq 0 ] &&
+  [ "$(stat_row l1.lts mean_scale)" = 4 ] && [ "$(stat_row l1free.lts mean_scale)" = 0 ] &&
+  awk -v a="$(stat_row l1.lts mean_shift)" "BEGIN { exit !(a < 1e-6 && a > -1e-6) }" &&
+  [ "$(stat_row l1free.lts mean_shift)" = "$(stat_row l1free.lts mean_shift_solve)" ] &&
+  echo "$out" | grep -q "15 solves" && ! echo "$out" | grep -q restored'
+out=$("$bin/lt-reconstruct" in.lts --norm l1 --mean-scale 0 -o bad.lts 2>&1); code=$?
+check "--mean-scale 0 is refused" '[ $code -ne 0 ] && [ ! -e bad.lts ]'
 
 # Eigen CG on request gives the exact solve's image to its tolerance (relative residual 1e-5: an MSE
 # far below 1e-8 on values near 1) and is named in the statistics and the STAT table (solver code 3).
@@ -57,7 +69,7 @@ check "auto: dct for L2 above 4096 pixels" '[ $code -eq 0 ] &&
   echo "$out" | grep -q "3 solves with DCT (auto: 4800 > 4096 pixels, l2), 3 iterations, 3 linear solver iterations, relative residual <= "'
 out=$("$bin/lt-reconstruct" big.lts --norm l1 --iterations 2 -o big.exr 2>&1); code=$?
 check "auto: eigen-cg for L1 above 4096 pixels" '[ $code -eq 0 ] &&
-  echo "$out" | grep -q "6 solves with EIGEN_CG (auto: 4800 > 4096 pixels, l1)"'
+  echo "$out" | grep -q "9 solves with EIGEN_CG (auto: 4800 > 4096 pixels, l1)"'
 # DCT on request: the exact solve's image (float output: MSE far below 1e-12 on values near 1), solver
 # code 4 in the STAT table.
 out=$("$bin/lt-reconstruct" in.lts --solver dct -o dct.lts 2>&1); code=$?

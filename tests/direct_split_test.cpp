@@ -198,7 +198,6 @@ TEST_CASE("MMLT warns when a length's b_k is known too poorly for the regions it
     cornell->camera = cornell->camera.withResolution(24, 24);
     s.direct.samples = 16;
     s.paths.maxDepth = cornell->integrator.maxDepth;
-    s.startupSamples = 0;
     const MltOutcome good = MltJob(*cornell, s, std::nullopt).run(RunControl(2));
     INFO(good.summary);
     CHECK(warned(good).empty());

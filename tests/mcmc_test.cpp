@@ -24,6 +24,7 @@
 #include "mcmc/primary_space_chains.h"
 #include "mcmc/mutation_selection.h"
 #include "path/path_record.h"
+#include "path/scatter.h"
 #include "sampling/render.h"
 #include "chain_runs.h"
 #include "test_util.h"
@@ -732,4 +733,43 @@ TEST_CASE(
     CHECK(p.chosen[2].name == "portal");
     CHECK_THROWS_WITH(chooseMutations("bidirectional,portals", glass), Catch::Contains("unknown mutation"));
     CHECK_THROWS_WITH(chooseMutations("lens,caustic", glass), Catch::Contains("bidirectional"));
+}
+
+TEST_CASE("a path with two coincident vertices carries no light and evaluates no BSDF toward a zero-length edge",
+          "[mcmc]") {
+    // A bidirectional mutation on kitchen-window (a counter top lying on the counter) proposed a path with two
+    // vertices at one point; evaluatePath then evaluated the rough plastic there toward the NaN direction of the
+    // zero-length edge before checking that edge, and the coating's table lookup read memory anywhere (a segfault
+    // after a minute of a 90 s run). Each edge is now checked before either end is evaluated along it, and the
+    // lookup takes a NaN cosine to 0. Broken on purpose: with both reverted this test died of SIGSEGV (Release).
+    TempDir dir;
+    auto scene = loadScene(dir.write("plastic.xml", R"(<scene version="0.5.0">
+  <sensor type="perspective"><float name="fov" value="60"/>
+    <transform name="toWorld"><lookat origin="0,1,2" target="0,0,0" up="0,1,0"/></transform>
+    <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/></film>
+  </sensor>
+  <shape type="rectangle"><transform name="toWorld"><scale value="3"/><rotate x="1" angle="-90"/></transform>
+    <bsdf type="roughplastic"><float name="alpha" value="0.1"/></bsdf></shape>
+  <shape type="rectangle"><transform name="toWorld"><rotate x="1" angle="90"/><translate y="2"/></transform>
+    <emitter type="area"><rgb name="radiance" value="1"/></emitter></shape>
+</scene>)"));
+    const auto floor = traceVertex(*scene, Ray{Vec3(0.1, 1, 0.2), Vec3(0, -1, 0)});
+    const auto lamp = traceVertex(*scene, Ray{Vec3(0, 1, 0), Vec3(0, 1, 0)});
+    REQUIRE(floor);
+    REQUIRE(lamp);
+    REQUIRE(lamp->emitter);
+    PathVertex camera;
+    camera.type = VertexType::Camera;
+    camera.si.p = scene->camera.position();
+    MarkovPath x;
+    x.v = {lightVertexAt(*scene, size_t(lamp->emitterIndex), lamp->p(), lamp->ng(), lamp->si.prim, lamp->si.coords),
+           *floor, *floor, camera};
+    const auto why = evaluatePath(*scene, x);
+    REQUIRE(why);
+    CHECK(*why == RejectCause::ZeroContribution);
+    CHECK(x.f.isBlack());
+    // Without the repeated vertex the same path carries light: the scene is not black.
+    x.v.erase(x.v.begin() + 2);
+    CHECK_FALSE(evaluatePath(*scene, x));
+    CHECK(x.target > 0);
 }

@@ -449,6 +449,7 @@ TEST_CASE("L1 keeps the primal's mean: the energy it takes from a firefly comes 
         ReconstructSettings s;
         s.norm = ReconstructNorm::L1;
         s.solver = solver;
+        s.meanScale = 4; // a disc of 4 meanScale well inside the image
         ReconstructStatistics kept, free;
         const file::Buffer k = reconstructScreenedPoisson(im, s, kept);
         s.mean = MeanRestoration::Free;
@@ -461,10 +462,11 @@ TEST_CASE("L1 keeps the primal's mean: the energy it takes from a firefly comes 
         CHECK(free.meanShift == Approx(free.solveMeanShift));
         CHECK(kept.solveMeanShift == Approx(free.solveMeanShift).epsilon(1e-6));
         CHECK(free.meanScale == 0);
-        CHECK(kept.meanScale == kMeanScale);
-        // Exact in exact arithmetic; float storage of 12288 values about 1 and the CG tolerance (1e-5) leave 1e-5.
-        CHECK(std::abs(kept.meanShift) < 1e-5);
-        CHECK(std::abs(sum(k) / primalSum - 1) < 1e-5);
+        CHECK(kept.meanScale == 4);
+        // Exact in exact arithmetic, whatever the accuracy of the L1 steps (screened_poisson.h); the float storage of
+        // the residual and the output (12288 values, relative rounding 6e-8 each) leaves under 1e-6.
+        CHECK(std::abs(kept.meanShift) < 1e-6);
+        CHECK(std::abs(sum(k) / primalSum - 1) < 1e-6);
         // Where the energy went: the difference to the free image, within 4 meanScale of the firefly.
         double near = 0, all = 0, brightest = 0;
         for (uint32_t y = 0; y < h; ++y)
@@ -474,7 +476,7 @@ TEST_CASE("L1 keeps the primal's mean: the energy it takes from a firefly comes 
                 for (size_t c = 0; c < 3; ++c)
                     d += double(k.planes[c][p]) - f.planes[c][p];
                 all += d;
-                if (std::hypot(double(x) - fx, double(y) - fy) <= 4 * kMeanScale) near += d;
+                if (std::hypot(double(x) - fx, double(y) - fy) <= 4 * s.meanScale) near += d;
                 brightest = std::max(brightest, double(k.planes[1][p]));
             }
         INFO("restored " << all << ", within 4 meanScale " << near << "; brightest pixel " << brightest);
@@ -594,19 +596,21 @@ TEST_CASE("statistics of a reconstruction", "[reconstruct]") {
     (void)reconstructScreenedPoisson(im, s, stats);
     CHECK(stats.norm == "l1");
     CHECK(stats.irlsIterations == 5);
-    CHECK(stats.solves == 3 * 5 + 3); // one per reweighting step (from the primal), and the mean's restoration
+    CHECK(stats.solves == 3 * 5); // one per reweighting step (from the primal)
     CHECK(stats.meanScale == kMeanScale);
+    CHECK(stats.meanSolves == 3); // the mean's restoration, one L2 solve per channel
+    CHECK(stats.meanSolver == "SPARSE_NORMAL_CHOLESKY");
     CHECK(stats.finalCost < stats.initialCost);
     // DCT: capped, transform-preconditioned CG for each reweighting step; one exact solve per channel for L2.
     s.solver = PoissonSolver::Cosine;
     (void)reconstructScreenedPoisson(im, s, stats);
     CHECK(stats.solver == "DCT");
     CHECK(stats.solverReason == "requested");
-    CHECK(stats.solves == 3 * 5 + 3);
-    CHECK(stats.solverIterations == 3 * 5 + 3);
+    CHECK(stats.solves == 3 * 5);
+    CHECK(stats.solverIterations == 3 * 5);
     CHECK(stats.linearIterations > 0);
-    // The restoration's L2 solves at 12 x 9 pixels are auto's: Ceres's Cholesky, one step each.
-    CHECK(stats.linearIterations <= 3 * 5 * kCosineL1Iterations + 3);
+    CHECK(stats.linearIterations <= 3 * 5 * kCosineL1Iterations);
+    CHECK(stats.meanSolver == "SPARSE_NORMAL_CHOLESKY"); // auto's exact solver at 12 x 9, not the one requested
     CHECK(stats.linearResidual > 0);
     CHECK(stats.finalCost < stats.initialCost);
     s.norm = ReconstructNorm::L2;

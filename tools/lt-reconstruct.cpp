@@ -62,7 +62,7 @@ int main(int argc, char** argv) {
                    "primal's); L2 keeps the mean by itself")
         ->check(CLI::IsMember({"kept", "free"}));
     app.add_option("--mean-scale", settings.meanScale,
-                   "l1 with --mean kept: size in pixels of the kernel that restores the mean (default 8); larger "
+                   "l1 with --mean kept: size in pixels of the kernel that restores the mean (default 16); larger "
                    "spreads a firefly's energy wider (less noise, more local bias), smaller comes closer to the "
                    "primal")
         ->check(lt::tool::PositiveNumber);

@@ -61,7 +61,8 @@ RoughPlastic::RoughPlastic(RoughPlasticParams params)
 }
 
 double RoughPlastic::coatTransmittance(double mu) const {
-    const double x = std::sqrt(std::clamp(mu, 0.0, 1.0)) * (TableSize - 1);
+    // !(mu > 0) also takes a NaN to 0: std::clamp passes it through, and int(NaN) indexes anywhere.
+    const double x = std::sqrt(mu > 0 ? std::min(mu, 1.0) : 0.0) * (TableSize - 1);
     const int j = std::min(int(x), TableSize - 2);
     const double t = x - j;
     return (1 - t) * transmittance_[j] + t * transmittance_[j + 1];

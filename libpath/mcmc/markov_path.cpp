@@ -55,15 +55,19 @@ std::optional<RejectCause> evaluatePath(const Scene& scene, MarkovPath& path, co
     // chains and their seeds agree (no bokeh of point lights).
     if (v[0].isDeltaLight() && std::all_of(v.begin() + 1, v.end() - 1, isSpecular))
         return RejectCause::ZeroContribution;
+    // Coincident vertices (G = 0) have no direction between them: nothing to evaluate. Every edge is checked before
+    // an end of it is evaluated toward the other: a BSDF handed the NaN direction of a zero-length edge read its
+    // tables out of bounds (a path-space chain on kitchen-window, whose counter top lies on the counter).
+    double g = geometryTerm(v[0], v[1]);
+    if (!(g > 0)) return RejectCause::ZeroContribution;
     Spectrum f = v[0].Le(scene, v[1]);
     for (size_t i = 1; i < k; ++i) {
         PathVertex& x = v[i];
         if (x.type != VertexType::Surface || !x.bsdf) return RejectCause::ZeroContribution;
-        // Coincident vertices (G = 0) have no direction between them: nothing to evaluate.
-        const double g = geometryTerm(v[i - 1], x);
-        if (!(g > 0)) return RejectCause::ZeroContribution;
         x.wi = x.directionTo(v[i - 1]);
         f *= g;
+        g = geometryTerm(x, v[i + 1]);
+        if (!(g > 0)) return RejectCause::ZeroContribution;
         if (isSpecular(x)) {
             const auto d = deltaImportance(v, i);
             if (!d) return RejectCause::ConfigurationChanged;
@@ -73,7 +77,7 @@ std::optional<RejectCause> evaluatePath(const Scene& scene, MarkovPath& path, co
         }
         if (f.isBlack()) return RejectCause::ZeroContribution;
     }
-    f *= geometryTerm(v[k - 1], v[k]) * cam.importance(lens, dir) * cosCam;
+    f *= g * cam.importance(lens, dir) * cosCam; // g: the last edge's
     // The pixel measurement integrates h_j (crop pixels) x f over paths (film.h): image units.
     f *= double(cam.film().cropWidth) * double(cam.film().cropHeight);
     if (f.isBlack()) return RejectCause::ZeroContribution;

@@ -134,7 +134,9 @@ nlohmann::json reconstructRecord(const ReconstructStatistics& s) {
             {"linear_residual", s.linearResidual},
             {"mean_shift_solve", s.solveMeanShift},
             {"mean_shift", s.meanShift},
-            {"mean_scale", s.meanScale}};
+            {"mean_scale", s.meanScale},
+            {"mean_solves", s.meanSolves},
+            {"mean_solver", s.meanSolver}};
 }
 
 file::StatTable reconstructTable(const ReconstructStatistics& s) {
@@ -174,7 +176,9 @@ std::string reconstructSummary(const ReconstructOutcome& outcome) {
         return p.str();
     };
     o << "; mean " << percent(s.solveMeanShift) << " from the primal's";
-    if (s.meanScale > 0) o << ", restored over " << s.meanScale << " px to " << percent(s.meanShift);
+    if (s.meanScale > 0)
+        o << ", restored over " << s.meanScale << " px (" << s.meanSolves << " solves with " << s.meanSolver << ") to "
+          << percent(s.meanShift);
     o << "; " << s.seconds << " s";
     return o.str();
 }

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <functional>
 #include <cmath>
 #include <memory>
 #include <optional>
@@ -295,15 +296,18 @@ PoissonSolver chooseSolver(const ReconstructSettings& settings, size_t N, Recons
     return small ? PoissonSolver::SparseNormalCholesky : l1 ? PoissonSolver::EigenCg : PoissonSolver::Cosine;
 }
 
+// Called with the linear problems (one per channel) a ChannelSolver has solved so far.
+using SolveProgress = std::function<void(int done)>;
+
 // One linear problem at a time (L2's, or an IRLS step's), all three channels from their current values (the warm
 // start) to the solution, with the solver chosen: Ceres's, Eigen CG on the assembled normal equations, or the
 // cosine transform.
 class ChannelSolver {
 public:
     ChannelSolver(const GradientImage& image, const ReconstructSettings& settings, PoissonSolver solver,
-                  ReconstructStatistics& statistics, const ReconstructProgress& progress)
+                  ReconstructStatistics& statistics, const SolveProgress& progress)
         : image_(image), settings_(settings), solver_(solver), statistics_(statistics), progress_(progress),
-          total_(3 * (settings.norm == ReconstructNorm::L1 ? settings.irlsIterations : 1)), arena_(settings.threads) {
+          arena_(settings.threads) {
         const bool l1 = settings.norm == ReconstructNorm::L1;
         maxLinearIterations_ = settings.maxLinearIterations;
         if (maxLinearIterations_ == 0)
@@ -359,7 +363,7 @@ private:
             statistics_.solverIterations += int(summary.iterations.size()) - 1;
             for (const auto& it : summary.iterations)
                 statistics_.linearIterations += it.linear_solver_iterations;
-            if (progress_) progress_(++done_, total_);
+            if (progress_) progress_(++done_);
         }
     }
 
@@ -400,15 +404,15 @@ private:
             statistics_.linearResidual = std::max(statistics_.linearResidual, r.relativeResidual);
         }
         done_ += 3;
-        if (progress_) progress_(done_, total_);
+        if (progress_) progress_(done_);
     }
 
     const GradientImage& image_;
     const ReconstructSettings& settings_;
     PoissonSolver solver_;
     ReconstructStatistics& statistics_;
-    const ReconstructProgress& progress_;
-    int total_, done_ = 0, maxLinearIterations_ = 0;
+    const SolveProgress& progress_;
+    int done_ = 0, maxLinearIterations_ = 0;
     std::optional<ChannelProblem> ceresProblem_;
     ceres::Solver::Options options_;
     std::optional<CosinePoisson> transform_;
@@ -447,10 +451,9 @@ double meanShift(const GradientImage& image, const Solution& x) {
     return primal != 0 ? imageSum(image, &x) / primal - 1 : 0.0;
 }
 
-// Minimizes the norm's objective from the primal (the warm start) and returns the minimizer. `progress` counts
-// `total` linear problems in all (the restoration of the mean may follow).
+// Minimizes the norm's objective from the primal (the warm start) and returns the minimizer.
 Solution minimize(const GradientImage& image, const ReconstructSettings& settings, ReconstructStatistics& statistics,
-                  const ReconstructProgress& progress) {
+                  const SolveProgress& progress) {
     ChannelSolver solver(image, settings, statistics.solverUsed, statistics, progress);
     Solution x;
     for (size_t c = 0; c < 3; ++c)
@@ -480,9 +483,10 @@ Solution minimize(const GradientImage& image, const ReconstructSettings& setting
 }
 
 // I_L1 + S (P - I_L1) (screened_poisson.h): the primal's residual smoothed by the L2 reconstruction of an image
-// without gradients, with alpha = 1 / meanScale (its solver's counts added to `statistics`).
+// without gradients, with alpha = 1 / meanScale. Its solves are counted apart from the norm's (`statistics`'s
+// meanSolves and meanSolver).
 void restoreMean(const GradientImage& image, const ReconstructSettings& settings, Solution& x,
-                 ReconstructStatistics& statistics, const ReconstructProgress& progress) {
+                 ReconstructStatistics& statistics, const SolveProgress& progress) {
     GradientImage residual;
     residual.width = image.width;
     residual.height = image.height;
@@ -506,10 +510,8 @@ void restoreMean(const GradientImage& image, const ReconstructSettings& settings
     for (size_t c = 0; c < 3; ++c)
         for (size_t p = 0; p < image.pixels(); ++p)
             x[c][p] += smooth[c][p];
-    statistics.solves += own.solves;
-    statistics.solverIterations += own.solverIterations;
-    statistics.linearIterations += own.linearIterations;
-    statistics.linearResidual = std::max(statistics.linearResidual, own.linearResidual);
+    statistics.meanSolves = own.solves;
+    statistics.meanSolver = own.solver;
     statistics.meanScale = settings.meanScale;
 }
 
@@ -529,15 +531,15 @@ file::Buffer reconstructScreenedPoisson(const GradientImage& image, const Recons
     const bool restore = l1 && settings.mean == MeanRestoration::Kept;
     // Linear problems in all: three channels per L2 solve or IRLS step, and three for the restoration.
     const int problems = 3 * (l1 ? settings.irlsIterations : 1), total = problems + (restore ? 3 : 0);
-    const ReconstructProgress counted = [&](int done, int) {
+    const SolveProgress counted = [&](int done) {
         if (progress) progress(done, total);
     };
     Solution x = minimize(image, settings, statistics, counted);
     statistics.solveMeanShift = meanShift(image, x);
-    if (restore)
-        restoreMean(image, settings, x, statistics, [&](int done, int) {
-            if (progress) progress(problems + done, total);
-        });
+    const SolveProgress restoring = [&](int done) {
+        if (progress) progress(problems + done, total);
+    };
+    if (restore) restoreMean(image, settings, x, statistics, restoring);
     statistics.meanShift = meanShift(image, x);
     RgbPlanes out = developSolution(image, x);
     statistics.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

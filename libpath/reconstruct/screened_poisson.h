@@ -9,8 +9,8 @@
 // alpha^2 (I - P) + D^T (D I - G) = 0 leave alpha^2 sum (I - P) = 0, as D^T's columns sum to zero (a constant
 // has no differences). L1 does not: it acts like a median, and on firefly-heavy renders (rare paths of
 // high value, in the primal and in the gradients around it) it discards their energy: Kettunen et al. 2015
-// call it biased but consistent; lt measured a kitchen lit through windows 46-54 % low at 9 samples per
-// pixel. With MeanRestoration::Kept (the default) the primal's residual r = P - I_L1, where that energy
+// call it biased but consistent; on door-ajar at 4 samples a pixel of G-PT (unbounded depth, 160x120) it
+// moved the image mean by -45 to -51 % (pipelines/results/l1-mean/). With MeanRestoration::Kept (the default) the primal's residual r = P - I_L1, where that energy
 // sits, is smoothed by the screened Poisson operator without gradients, S = (beta^2 + D^T D)^-1 beta^2 with
 // beta = 1 / meanScale (a kernel of about meanScale pixels whose weights sum to one: the argument above
 // with G = 0), and added back: I = I_L1 + S r. The result's mean is the primal's exactly, and every region
@@ -70,10 +70,14 @@ inline constexpr int kEigenCgL1Iterations = 10;
 // objective 19% higher at 640x360.
 inline constexpr int kCosineL1Iterations = 3;
 
-// The size in pixels of the kernel that restores L1's mean (1 / beta above). Measured on window-room
-// (G-PT, sun through a window, unbounded depth) at 4 samples per pixel: see the MEASURED note in
-// screened_poisson.cpp.
-inline constexpr double kMeanScale = 8;
+// The size in pixels of the kernel that restores L1's mean (1 / beta above). pipelines/bench/l1-mean.sh,
+// 160x120, 4 samples a pixel, 3 seeds, relMSE of L1 with the mean kept over 4 / 8 / 16 / 32 / 64 pixels:
+// door-ajar G-PT 2.68 / 2.30 / 2.19 / 2.17 / 2.19 on the first seed (L2 3.67, L1 free 3.21), path reusing
+// 2.19 / 1.87 / 1.75 / 1.71 / 1.70 (L2 1.47, free 1.72); window-room G-PT 0.108 / 0.101 / 0.101 / 0.101 / 0.102
+// (L2 0.149, free 0.139), path reusing 0.073 / 0.068 / 0.066 / 0.066 / 0.065 (L2 0.072, free 0.066); the other
+// seeds alike. The error falls to 16 pixels and is flat beyond, where a wider kernel only blurs each region's
+// mean further: 16.
+inline constexpr double kMeanScale = 16;
 
 struct ReconstructSettings {
     ReconstructNorm norm = ReconstructNorm::L2;
@@ -108,11 +112,16 @@ struct ReconstructStatistics {
     // solves computed from the stencil afterwards, so it shows the rounding error.
     double linearResidual = 0;
     // How far the image mean (over pixels and R, G, B, the direct plane included) moved from the primal's,
-    // relative to it: by the norm's minimizer (L2: rounding only) and in the image written (after the mean's
-    // restoration, if any). 0 for a black primal.
+    // relative to it: by the norm's minimizer (L2: rounding, and the tolerance of eigen-cg or cgnr) and in the
+    // image written (after the mean's restoration, if any). 0 for a black primal.
     double solveMeanShift = 0;
     double meanShift = 0;
-    double meanScale = 0; // the restoring kernel's size in pixels; 0 when the mean was not restored
+    // The mean's restoration, apart from the figures above (which are the norm's minimizer's, finalCost included):
+    // the kernel's size in pixels (0 when the mean was not restored), its linear solves and their solver (auto's
+    // for L2: Ceres's sparse Cholesky or the cosine transform, both exact).
+    double meanScale = 0;
+    int meanSolves = 0;
+    std::string meanSolver;
 };
 
 // Called after each linear problem: (problems done, problems in all); the tool shows it as progress.

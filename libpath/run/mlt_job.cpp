@@ -329,8 +329,8 @@ std::vector<std::string> MltJob::untrustedB(const ChainRunStats& st) const {
         for (size_t k = size_t(chainPaths_.minDepth); k < b.strata(); ++k) {
             const double bk = b.stratumB(k), rk = bk > 0 ? b.stratumStandardError(k) / bk : 0.0;
             if (bk < LengthShare * b.b() || !(rk > UntrustedB)) continue;
-            lengths << (count++ ? ", " : "") << k << (k == 1 ? " edge" : " edges") << " +- " << std::setprecision(2)
-                    << 100 * rk << "% (" << 100 * bk / b.b() << "% of b)";
+            lengths << (count++ ? ", " : "") << k << (k == 1 ? " edge" : " edges") << " +- " << std::fixed
+                    << std::setprecision(1) << 100 * rk << "% (" << 100 * bk / b.b() << "% of b)";
         }
         if (count)
             warnings.push_back("warning: MMLT scales each path length by its own b_k, known only to " + lengths.str() +

@@ -13,12 +13,7 @@ mkdir -p "$out"
 methods="mlt mlt-nosplit pssmlt pssmlt-nosplit mmlt mmlt-nosplit"
 
 for scene in ${SCENES:-cornell-box veach-bidir tiny-lamp lamp-pool door-ajar caustic-mirror}; do
-  ref="$root/scenes/$scene/reference.exr"
-  if [ ! -f "$ref" ]; then
-    ref="$out/$scene-reference.exr"
-    [ -f "$ref" ] || bash "$root/pipelines/reference.sh" "$root/scenes/$scene/scene.xml" \
-      --time "${REF_TIME:-1800}" -o "$ref"
-  fi
+  ref="$(REF_TIME="${REF_TIME:-1800}" reference_for "$scene" "$out")"
   bash "$root/pipelines/compare.sh" "$root/scenes/$scene/scene.xml" --time "$seconds" --methods "$methods" \
     --ref "$ref" --out "$out/$scene"
 done

@@ -18,8 +18,7 @@ for scene in ${SCENES:-veach-bidir caustic-mirror}; do
   if [ "$scene" = veach-bidir ]; then
     ref="$root/scenes/veach-bidir/reference.exr"; crop=(--crop 480,540,320,260)
   else
-    ref="$out/$scene-reference.exr"
-    [ -f "$ref" ] || bash "$root/pipelines/reference.sh" "$root/scenes/$scene/scene.xml" --time "${REF_TIME:-900}" -o "$ref"
+    ref="$(reference_for "$scene" "$out")"
   fi
   bash "$root/pipelines/compare.sh" "$root/scenes/$scene/scene.xml" --time "$seconds" --methods "$methods" \
     --ref "$ref" "${crop[@]}" --out "$out/$scene"

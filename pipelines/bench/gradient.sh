@@ -15,11 +15,7 @@ mkdir -p "$out"
 methods="pt bdpt gpt gpt-l1 gdpr gdpr-l1"
 
 for scene in ${SCENES:-cornell-box veach-mis veach-bidir door-ajar}; do
-  ref="$root/scenes/$scene/reference.exr"
-  if [ ! -f "$ref" ]; then
-    ref="$out/$scene-reference.exr"
-    [ -f "$ref" ] || bash "$root/pipelines/reference.sh" "$root/scenes/$scene/scene.xml" --time "${REF_TIME:-900}" -o "$ref"
-  fi
+  ref="$(reference_for "$scene" "$out")"
   bash "$root/pipelines/compare.sh" "$root/scenes/$scene/scene.xml" --time "$seconds" --methods "$methods" \
     --ref "$ref" --out "$out/$scene"
   for m in gpt gdpr; do

@@ -18,19 +18,9 @@ out="${2:-bench-hslt}"
 mkdir -p "$out"
 methods="bdpt pssmlt mlt memlt hslt"
 
-reference() {
-  local scene="$1" ref="$root/scenes/$1/reference.exr"
-  if [ ! -f "$ref" ]; then
-    ref="$out/$scene-reference.exr"
-    [ -f "$ref" ] || bash "$root/pipelines/reference.sh" "$root/scenes/$scene/scene.xml" --time "${REF_TIME:-900}" \
-      -o "$ref" > /dev/null
-  fi
-  echo "$ref"
-}
-
 if [ -n "${AUTO:-}" ]; then
   for scene in ${SCENES:-glossy-rings veach-mis veach-bidir}; do
-    ref="$(reference "$scene")"
+    ref="$(reference_for "$scene" "$out")"
     dir="$out/auto/$scene"
     mkdir -p "$dir"
     xml="$root/scenes/$scene/scene.xml"
@@ -55,7 +45,7 @@ if [ -n "${AUTO:-}" ]; then
 fi
 
 for scene in ${SCENES:-veach-mis glossy-rings veach-bidir}; do
-  ref="$(reference "$scene")"
+  ref="$(reference_for "$scene" "$out")"
   bash "$root/pipelines/compare.sh" "$root/scenes/$scene/scene.xml" --time "$seconds" --methods "$methods" \
     --ref "$ref" --out "$out/$scene"
   echo "== $scene, hslt"

@@ -21,9 +21,7 @@ for scene in $scenes; do
       --ref "$root/scenes/veach-bidir/reference.exr" --crop 480,540,320,260 --out "$out/veach-bidir"
     continue
   fi
-  ref="$out/$scene-reference.exr"
-  [ -f "$ref" ] || bash "$root/pipelines/reference.sh" "$root/scenes/$scene/scene.xml" \
-    --time "${REF_TIME:-1800}" -o "$ref"
+  ref="$(REF_TIME="${REF_TIME:-1800}" reference_for "$scene" "$out")"
   bash "$root/pipelines/compare.sh" "$root/scenes/$scene/scene.xml" --time "$seconds" --methods "$methods" \
     --ref "$ref" --out "$out/$scene"
 done

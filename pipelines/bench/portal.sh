@@ -28,15 +28,8 @@ regions() {
   esac
 }
 
-reference() {
-  local scene="$1" ref="$out/$1-reference.exr"
-  [ -f "$ref" ] || bash "$root/pipelines/reference.sh" "$root/scenes/$scene/scene.xml" --time "${REF_TIME:-900}" \
-    -o "$ref" > /dev/null
-  echo "$ref"
-}
-
 for scene in ${SCENES-window-room portal-room door-ajar}; do
-  ref="$(reference "$scene")"
+  ref="$(reference_for "$scene" "$out")"
   bash "$root/pipelines/compare.sh" "$root/scenes/$scene/scene.xml" --time "$seconds" --methods "$methods" \
     --ref "$ref" --out "$out/$scene" > /dev/null
   files=()
